@@ -1,0 +1,23 @@
+"""Command-line interface: ``geardyn kinematics|stiffness|modes|simulate|analyze|sweep|demo``.
+
+Each command lives in its own module and registers itself on :data:`app`; the CLI only calls
+the public Python API. Errors from geardyn are printed as one clear message (exit code 2).
+"""
+
+from __future__ import annotations
+
+import typer
+
+app = typer.Typer(
+    name="geardyn",
+    help="Dynamics and condition monitoring of gear transmissions.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+# Command modules register themselves on import (one line each).
+from geardyn.cli import kinematics as _kinematics  # noqa: E402,F401
+from geardyn.cli import demo as _demo  # noqa: E402,F401
+
+__all__ = ["app"]

@@ -1,0 +1,47 @@
+"""``geardyn demo``: runs every example under ``examples/`` that the installed modules support
+and prints its results."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from geardyn.cli import app
+from geardyn.cli.common import console, friendly_errors
+from geardyn.cli.kinematics import render_kinematics
+from geardyn.config import load_config
+from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
+
+#: Examples shown by the demo, in order (relative to the examples directory).
+KINEMATIC_EXAMPLES = [
+    "car_differential.toml",
+    "alouette3_mgb.toml",
+    "hammami_back_to_back.toml",
+    "reclaimer_drive.toml",
+]
+
+
+def examples_dir() -> Path:
+    """The repository's ``examples/`` folder (the demo runs from a source checkout)."""
+    here = Path(__file__).resolve()
+    for parent in here.parents:
+        cand = parent / "examples"
+        if cand.is_dir():
+            return cand
+    raise FileNotFoundError("examples/ folder not found next to the geardyn sources")
+
+
+@app.command("demo")
+@friendly_errors
+def demo_cmd(
+    examples: Path = typer.Option(None, help="examples folder (default: the repository's)"),
+) -> None:
+    """Run the examples of the sources (seed 000, 003, 004) and print their results."""
+    folder = examples or examples_dir()
+    for name in KINEMATIC_EXAMPLES:
+        cfg = load_config(folder / name)
+        analysis = analyze_kinematics(cfg)
+        freqs = characteristic_frequencies(analysis, dict(cfg.input_speeds_rpm))
+        console.rule(f"[bold]{name}")
+        render_kinematics(analysis, freqs)

@@ -1,0 +1,89 @@
+"""Reading TOML configs and turning validation failures into messages that name the item."""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from geardyn.config.mechanism import Mechanism
+from geardyn.errors import ConfigError
+
+
+class GeardynConfig(Mechanism):
+    """A whole geardyn config file: the mechanism (top level) plus optional analysis sections.
+
+    Analysis modules add their sections here as optional fields (e.g. gear geometry, model and
+    simulation settings); a file holding only a mechanism is a valid config.
+    """
+
+
+def _loc_to_path(loc: tuple[Any, ...], data: Any) -> str:
+    parts: list[str] = []
+    node = data
+    for item in loc:
+        if isinstance(item, int):
+            label = f"[{item}]"
+            try:
+                node = node[item]
+                if isinstance(node, Mapping) and isinstance(node.get("name"), str):
+                    label += f" '{node['name']}'"
+            except (IndexError, KeyError, TypeError):
+                node = None
+            parts.append(label)
+        else:
+            # pydantic adds function/union tags to some locations; keep only field names
+            if isinstance(node, Mapping) and item in node:
+                node = node[item]
+                parts.append(f".{item}" if parts else str(item))
+            elif "[" in str(item) or str(item).startswith("function-"):
+                continue
+            else:
+                node = None
+                parts.append(f".{item}" if parts else str(item))
+    return "".join(parts)
+
+
+def format_validation_error(exc: ValidationError, data: Any) -> list[str]:
+    """One message per broken rule, each prefixed with the path of the item (e.g.
+    ``gear_pairs[1] 'drive'.a.teeth: ...``)."""
+    msgs: list[str] = []
+    for err in exc.errors():
+        path = _loc_to_path(tuple(err.get("loc", ())), data)
+        msg = str(err.get("msg", ""))
+        for prefix in ("Value error, ", "Assertion failed, "):
+            if msg.startswith(prefix):
+                msg = msg[len(prefix) :]
+        if err.get("type") == "extra_forbidden":
+            msg = "unknown field (check the spelling; see the docs for the allowed fields)"
+        elif err.get("type") == "missing":
+            msg = "required field is missing"
+        elif "input" in err and err.get("type") not in ("value_error", "assertion_error"):
+            msg = f"{msg} (got {err['input']!r})"
+        for line in msg.split("\n"):
+            msgs.append(f"{path}: {line}" if path else line)
+    return msgs
+
+
+def parse_config(data: Mapping[str, Any], source: str | None = None) -> GeardynConfig:
+    """Validate a config held in a mapping (e.g. parsed TOML)."""
+    try:
+        return GeardynConfig.model_validate(dict(data))
+    except ValidationError as exc:
+        raise ConfigError(format_validation_error(exc, data), source=source) from None
+
+
+def load_config(path: str | Path) -> GeardynConfig:
+    """Read and validate a TOML config file."""
+    p = Path(path)
+    if not p.is_file():
+        raise ConfigError(f"config file '{p}' does not exist")
+    try:
+        with p.open("rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"not valid TOML: {exc}", source=str(p)) from None
+    return parse_config(data, source=str(p))

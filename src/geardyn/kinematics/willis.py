@@ -1,0 +1,279 @@
+"""Kinematic analysis of geared mechanisms by the method of seed 000 (Penaud, Alazard, Amiez 2012).
+
+Steps (seed 000 §2):
+
+1. adjacency table ``T`` with complex gear weights ``N·e^{iθ}`` (§2.2);
+2. reference link (carrier) of each gear pair, ``k = S_i ∩ S_j`` (eq 1);
+3. constraint matrix ``M`` (first row fixes the frame, then one Willis row per gear pair, eq 2);
+4. ``N_dof = N − rank(M)`` (eq 4) and the velocity-ratio matrix ``Ω0 = ker(M)`` normalised to
+   chosen input links, ``Ω = Ω0 Λ`` (eq 5).
+
+Angular velocities are complex numbers ``|ω|e^{iφ}``: ``φ`` is the direction of the rotation
+vector in the plane of the kinematic sketch, positive clockwise (seed 000 §2.5).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from geardyn.errors import InputError, KinematicsError
+from geardyn.kinematics.graph import GearMesh, MechanismGraph
+
+#: Relative singular-value threshold used for rank decisions on the row-normalised M.
+RANK_RTOL = 1e-9
+
+
+def multi_turning_pairs(graph: MechanismGraph) -> list[tuple[str, frozenset[str]]]:
+    """Multiple turning pairs: connected groups of turning pairs on the same axis level.
+
+    Returns ``(level, links)`` tuples (seed 000 §2.1: turning pairs on one level form a multiple
+    turning pair, drawn as a shaded polygon in the graph).
+    """
+    groups: list[tuple[str, frozenset[str]]] = []
+    by_level: dict[str, list[tuple[str, str]]] = {}
+    for j in graph.joints:
+        by_level.setdefault(j.axis, []).append((j.link_a, j.link_b))
+    for level, edges in by_level.items():
+        # union-find over the edges of this level
+        parent: dict[str, str] = {}
+
+        def find(x: str) -> str:
+            parent.setdefault(x, x)
+            while parent[x] != x:
+                parent[x] = parent[parent[x]]
+                x = parent[x]
+            return x
+
+        for a, b in edges:
+            parent[find(a)] = find(b)
+        comps: dict[str, set[str]] = {}
+        for x in list(parent):
+            comps.setdefault(find(x), set()).add(x)
+        for comp in comps.values():
+            groups.append((level, frozenset(comp)))
+    return groups
+
+
+def turning_neighbourhood(graph: MechanismGraph) -> dict[str, set[str]]:
+    """``S_i`` for every link: the links joined to ``i`` by a (multiple) turning pair (seed 000 §2.3)."""
+    s: dict[str, set[str]] = {name: set() for name in graph.links}
+    for _level, comp in multi_turning_pairs(graph):
+        for link in comp:
+            s.setdefault(link, set()).update(comp - {link})
+    return s
+
+
+def reference_link(mesh: GearMesh, s: Mapping[str, set[str]]) -> str:
+    """Carrier of a gear pair, ``k = S_i ∩ S_j`` (seed 000 eq 1).
+
+    Raises :class:`KinematicsError` naming the gear pair when the intersection is empty (no
+    common carrier) or holds more than one link (two carriers).
+    """
+    common = (s.get(mesh.link_a, set()) & s.get(mesh.link_b, set())) - {mesh.link_a, mesh.link_b}
+    if not common:
+        raise KinematicsError(
+            f"gear pair '{mesh.name}' ({mesh.link_a}–{mesh.link_b}): no common carrier — no link is "
+            f"joined by turning pairs to both '{mesh.link_a}' and '{mesh.link_b}' "
+            "(seed 000 eq 1: S_i ∩ S_j must be exactly one link)"
+        )
+    if len(common) > 1:
+        raise KinematicsError(
+            f"gear pair '{mesh.name}' ({mesh.link_a}–{mesh.link_b}): two or more carriers "
+            f"{sorted(common)} — S_i ∩ S_j must be exactly one link (seed 000 eq 1); the turning "
+            "pairs put both gears on a common axis, or two axis levels are mislabelled"
+        )
+    return next(iter(common))
+
+
+def adjacency_table(graph: MechanismGraph) -> tuple[np.ndarray, list[list[str | None]]]:
+    """Adjacency table of seed 000 §2.2.
+
+    Returns ``(T, levels)``: ``T`` is the N×N complex gear-weight matrix (NaN where no gear pair),
+    ``levels[i][j]`` the axis level of the turning pair ``i``–``j`` (``None`` where none).
+    """
+    n = len(graph.links)
+    t = np.full((n, n), np.nan + 0j, dtype=complex)
+    levels: list[list[str | None]] = [[None] * n for _ in range(n)]
+    for m in graph.meshes:
+        i, j = graph.index(m.link_a), graph.index(m.link_b)
+        t[i, j] = m.weight_a
+        t[j, i] = m.weight_b
+    for jt in graph.joints:
+        i, j = graph.index(jt.link_a), graph.index(jt.link_b)
+        levels[i][j] = levels[j][i] = jt.axis
+    return t, levels
+
+
+def constraint_matrix(graph: MechanismGraph, carriers: Sequence[str]) -> np.ndarray:
+    """Kinematic constraint matrix ``M`` with ``M Ω = 0`` (seed 000 §2.4, eqs 2-3).
+
+    Row 0 fixes the frame (``ω_f = 0``); row ``l`` applies Willis to gear pair ``l`` with
+    carrier ``k``: ``T(i,j)(ω_i − ω_k) + T(j,i)(ω_j − ω_k) = 0``.
+    """
+    n = len(graph.links)
+    m = np.zeros((len(graph.meshes) + 1, n), dtype=complex)
+    m[0, graph.index(graph.frame)] = 1.0
+    for row, (mesh, k) in enumerate(zip(graph.meshes, carriers, strict=True), start=1):
+        i, j, kk = graph.index(mesh.link_a), graph.index(mesh.link_b), graph.index(k)
+        m[row, i] += mesh.weight_a
+        m[row, j] += mesh.weight_b
+        m[row, kk] += -mesh.weight_a - mesh.weight_b
+    return m
+
+
+def check_graph(graph: MechanismGraph) -> None:
+    """Structural checks on a graph built from Python (the config layer checks the same)."""
+    known = set(graph.links)
+    problems: list[str] = []
+    if len(known) != len(graph.links):
+        dup = sorted({x for x in graph.links if graph.links.count(x) > 1})
+        problems.append(f"links: duplicate link names {dup}")
+    if graph.frame not in known:
+        problems.append(f"frame: unknown link '{graph.frame}'")
+    for m in graph.meshes:
+        for link in (m.link_a, m.link_b):
+            if link not in known:
+                problems.append(f"gear pair '{m.name}': unknown link '{link}'")
+        if m.link_a == m.link_b:
+            problems.append(f"gear pair '{m.name}': a link cannot mesh with itself ('{m.link_a}')")
+    for jt in graph.joints:
+        for link in (jt.link_a, jt.link_b):
+            if link not in known:
+                problems.append(f"turning pair {jt.link_a}–{jt.link_b}: unknown link '{link}'")
+    held = {jt.link_a for jt in graph.joints} | {jt.link_b for jt in graph.joints}
+    for link in graph.links:
+        if link != graph.frame and link not in held:
+            problems.append(
+                f"link '{link}': has no turning pair, so nothing holds it (every moving link needs "
+                "a turning pair)"
+            )
+    if problems:
+        raise KinematicsError("; ".join(problems))
+
+
+@dataclass
+class KinematicAnalysis:
+    """Result of the seed 000 analysis of a :class:`MechanismGraph`.
+
+    Attributes: ``graph``; ``carriers`` (reference link of each gear pair, in ``graph.meshes``
+    order); ``T`` and ``levels`` (adjacency table); ``M`` (constraint matrix); ``rank``; ``dof``;
+    ``singular_values`` (of the row-normalised M, for judging the rank decision);
+    ``nullspace`` (an orthonormal basis of ker M, N × dof).
+    """
+
+    graph: MechanismGraph
+    carriers: list[str]
+    T: np.ndarray
+    levels: list[list[str | None]]
+    M: np.ndarray
+    rank: int
+    dof: int
+    singular_values: np.ndarray
+    nullspace: np.ndarray
+
+    @property
+    def links(self) -> list[str]:
+        return self.graph.links
+
+    def reference_links(self) -> dict[str, str]:
+        """Gear-pair name → reference link (seed 000 Tables 2 and 4)."""
+        return {m.name: k for m, k in zip(self.graph.meshes, self.carriers, strict=True)}
+
+    def velocity_ratios(self, inputs: Sequence[str]) -> np.ndarray:
+        """Velocity-ratio matrix ``Ω0`` normalised to ``inputs`` (seed 000 eq 5).
+
+        Column ``c`` holds the (complex) angular velocity of every link when input ``c`` turns
+        at unit speed and the other inputs are at rest. Raises :class:`InputError` when the
+        inputs do not fix the motion.
+        """
+        inputs = list(inputs)
+        self._check_inputs(inputs)
+        rows = [self.graph.index(x) for x in inputs]
+        k = self.nullspace
+        sub = k[rows, :]
+        omega0 = k @ np.linalg.inv(sub)
+        return _clean(omega0)
+
+    def speeds(self, input_speeds: Mapping[str, float | np.ndarray]) -> np.ndarray:
+        """Absolute angular velocities of all links, ``Ω = Ω0 Λ`` (seed 000 eq 5).
+
+        ``input_speeds`` maps input link → signed speed (any unit, e.g. rad/s or rpm; the
+        result has the same unit). Values may be arrays of equal shape (a speed profile); the
+        result then has shape ``(N_links, *shape)``.
+        """
+        names = list(input_speeds)
+        omega0 = self.velocity_ratios(names)
+        lam = np.stack([np.asarray(input_speeds[x], dtype=float) for x in names])
+        return np.tensordot(omega0, lam, axes=(1, 0))
+
+    def _check_inputs(self, inputs: list[str]) -> None:
+        known = set(self.graph.links)
+        for x in inputs:
+            if x not in known:
+                raise InputError(f"input link '{x}': unknown link (known: {', '.join(self.links)})")
+            if x == self.graph.frame:
+                raise InputError(f"input link '{x}': is the frame (its speed is 0 by definition)")
+        if len(set(inputs)) != len(inputs):
+            raise InputError(f"inputs {inputs}: a link is given twice")
+        if len(inputs) != self.dof:
+            raise InputError(
+                f"inputs {inputs}: the mechanism has {self.dof} degree(s) of freedom, so exactly "
+                f"{self.dof} input speed(s) are needed to fix the motion (got {len(inputs)})"
+            )
+        if self.dof == 0:
+            return
+        sub = self.nullspace[[self.graph.index(x) for x in inputs], :]
+        s = np.linalg.svd(sub, compute_uv=False)
+        if s[-1] <= 1e-9 * max(s[0], 1e-300):
+            raise InputError(
+                f"inputs {inputs}: do not fix the motion — their speeds are kinematically "
+                "dependent (one follows from the others), so some motion stays free; choose "
+                "independent input links"
+            )
+
+
+def _clean(z: np.ndarray, tol: float = 1e-12) -> np.ndarray:
+    """Zero real/imaginary parts that are rounding noise (relative to the largest entry)."""
+    scale = max(float(np.max(np.abs(z))), 1.0) if z.size else 1.0
+    re = np.where(np.abs(z.real) < tol * scale, 0.0, z.real)
+    im = np.where(np.abs(z.imag) < tol * scale, 0.0, z.imag)
+    return re + 1j * im
+
+
+def analyze_graph(graph: MechanismGraph) -> KinematicAnalysis:
+    """Run the seed 000 kinematic analysis on a mechanism graph."""
+    check_graph(graph)
+    s = turning_neighbourhood(graph)
+    problems: list[str] = []
+    carriers: list[str] = []
+    for mesh in graph.meshes:
+        try:
+            carriers.append(reference_link(mesh, s))
+        except KinematicsError as exc:
+            problems.append(str(exc))
+    if problems:
+        raise KinematicsError("; ".join(problems))
+    t, levels = adjacency_table(graph)
+    m = constraint_matrix(graph, carriers)
+    # Rank of M (eq 4) on the row-normalised matrix, so the threshold does not depend on tooth
+    # counts; a relative threshold of 1e-9 leaves >6 decades of margin to rounding (~1e-15).
+    scaled = m / np.linalg.norm(m, axis=1, keepdims=True)
+    _, sv, vh = np.linalg.svd(scaled)
+    rank = int(np.sum(sv > RANK_RTOL * sv[0]))
+    n = len(graph.links)
+    dof = n - rank
+    nullspace = vh[rank:].conj().T
+    return KinematicAnalysis(
+        graph=graph,
+        carriers=carriers,
+        T=t,
+        levels=levels,
+        M=m,
+        rank=rank,
+        dof=dof,
+        singular_values=sv,
+        nullspace=nullspace,
+    )
