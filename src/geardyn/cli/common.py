@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import functools
+import os
+import sys
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -11,8 +13,10 @@ from rich.console import Console
 
 from geardyn.errors import GeardynError
 
-console = Console()
-err_console = Console(stderr=True)
+# Tables are wide: when output is not a terminal (pipes, files, CI logs) do not wrap at 80.
+_WIDTH = None if sys.stdout.isatty() or os.environ.get("COLUMNS") else 200
+console = Console(width=_WIDTH)
+err_console = Console(stderr=True, width=_WIDTH)
 
 F = TypeVar("F", bound=Callable[..., Any])
 

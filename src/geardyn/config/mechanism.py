@@ -237,18 +237,18 @@ class PlanetaryStage(_Model):
                 den = n * math.gcd(zps, zpr)
                 if num % den:
                     raise ValueError(
-                        f"{n} stepped planets cannot be equally spaced: (z_s·z_pr + z_r·z_ps)/"
+                        f"{n} identical stepped planets cannot be equally spaced: "
+                        f"(z_s·z_pr + z_r·z_ps)/"
                         f"(n·gcd(z_ps, z_pr)) = {num}/{den} is not an integer"
                     )
-            if n >= 2 and not self.stepped:
-                # Neighbouring planets must clear: centre distance 2a·sin(π/n) > tip diameter,
-                # with standard addendum (h_a* = 1): (z_s + z_p)·sin(π/n) > z_p + 2.
-                if (zs + zps) * math.sin(math.pi / n) <= zps + 2:
-                    raise ValueError(
-                        f"{n} planets of {zps} teeth do not fit around a {zs}-tooth sun: adjacent "
-                        f"planet tips overlap ((z_s + z_p)·sin(π/n) = "
-                        f"{(zs + zps) * math.sin(math.pi / n):.3g} ≤ z_p + 2 = {zps + 2})"
-                    )
+            # Neighbouring planets must clear: centre distance 2a·sin(π/n) > tip diameter,
+            # with standard addendum (h_a* = 1): (z_s + z_p)·sin(π/n) > z_p + 2.
+            if n >= 2 and not self.stepped and (zs + zps) * math.sin(math.pi / n) <= zps + 2:
+                raise ValueError(
+                    f"{n} planets of {zps} teeth do not fit around a {zs}-tooth sun: adjacent "
+                    f"planet tips overlap ((z_s + z_p)·sin(π/n) = "
+                    f"{(zs + zps) * math.sin(math.pi / n):.3g} ≤ z_p + 2 = {zps + 2})"
+                )
         elif len(self.planet_angles_deg) != n:
             raise ValueError(
                 f"planet_angles_deg has {len(self.planet_angles_deg)} entries for n_planets = {n}"
@@ -571,7 +571,11 @@ class Mechanism(_Model):
             bnames.add(b.name)
             need(b.inner, where)
             need(b.outer, where)
-            if b.inner in known and b.outer in known and frozenset((b.inner, b.outer)) not in joint_axis:
+            if (
+                b.inner in known
+                and b.outer in known
+                and frozenset((b.inner, b.outer)) not in joint_axis
+            ):
                 problems.append(
                     f"{where}: there is no turning pair between '{b.inner}' and '{b.outer}' "
                     "(a bearing sits on a turning pair)"

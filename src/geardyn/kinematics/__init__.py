@@ -1,4 +1,4 @@
-"""Kinematics of geared mechanisms (seed 000): ratios, DOF, carriers and characteristic frequencies."""
+"""Kinematics of geared mechanisms (seed 000): ratios, DOF, carriers, characteristic frequencies."""
 
 from __future__ import annotations
 

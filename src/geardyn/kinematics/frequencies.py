@@ -233,7 +233,9 @@ def characteristic_frequencies(
         row["fault_order"] = order(row["fault_hz"])
     wheels = pd.DataFrame(list(wheel_rows.values()))
     if not wheels.empty:
-        wheels = wheels[["wheel", "link", "teeth", "n_meshes", "meshes_with", "fault_hz", "fault_order"]]
+        wheels = wheels[
+            ["wheel", "link", "teeth", "n_meshes", "meshes_with", "fault_hz", "fault_order"]
+        ]
 
     # bearings
     rows = []
@@ -268,13 +270,12 @@ def characteristic_frequencies(
 
     # planet pass: planets on a moving carrier meshing one internal/central wheel
     rows = []
-    for group in planet_groups(analysis):
-        carrier, ring, planets = group
-        f_pp = len(planets) * abs(omega[g.index(carrier)] - omega[g.index(ring)]) / TWO_PI
+    for carrier, central, wheel, planets in planet_groups(analysis):
+        f_pp = len(planets) * abs(omega[g.index(carrier)] - omega[g.index(central)]) / TWO_PI
         rows.append(
             {
-                "set": f"{ring}@{carrier}",
-                "central": ring,
+                "set": f"{wheel}@{carrier}",
+                "central": central,
                 "carrier": carrier,
                 "n_planets": len(planets),
                 "planet_pass_hz": float(f_pp),
@@ -297,26 +298,31 @@ def characteristic_frequencies(
     )
 
 
-def planet_groups(analysis: KinematicAnalysis) -> list[tuple[str, str, list[str]]]:
-    """Groups ``(carrier, central link, planets)`` for planet-pass frequencies.
+def planet_groups(analysis: KinematicAnalysis) -> list[tuple[str, str, str, list[str]]]:
+    """Groups ``(carrier, central link, central wheel, planets)`` for planet-pass frequencies.
 
     A planet is a link held only by its carrier (its turning pairs all join the carrier) that
-    meshes with a central member (a link coaxial with the carrier); the carrier must not be the
-    frame. Groups are per central member, so a sun and a ring of one stage give two entries
-    (planet pass relative to the sun and to the ring).
+    meshes with a central wheel (on a link not held only by the carrier); the carrier must not
+    be the frame. Groups are per central wheel, so the sun and the ring of a stage give two
+    entries (planet pass relative to the sun and to the ring), and two stages sharing a sun
+    shaft stay separate.
     """
     g = analysis.graph
     holders: dict[str, set[str]] = {}
     for jt in g.joints:
         holders.setdefault(jt.link_a, set()).add(jt.link_b)
         holders.setdefault(jt.link_b, set()).add(jt.link_a)
-    groups: dict[tuple[str, str], list[str]] = {}
+    groups: dict[tuple[str, str, str], list[str]] = {}
     for mesh, k in zip(g.meshes, analysis.carriers, strict=True):
         if k == g.frame:
             continue
-        for planet, central in ((mesh.link_a, mesh.link_b), (mesh.link_b, mesh.link_a)):
+        sides = (
+            (mesh.link_a, mesh.link_b, mesh.wheel_b or f"{mesh.link_b}/z{mesh.teeth_b}"),
+            (mesh.link_b, mesh.link_a, mesh.wheel_a or f"{mesh.link_a}/z{mesh.teeth_a}"),
+        )
+        for planet, central, wheel in sides:
             if holders.get(planet, set()) == {k} and holders.get(central, set()) != {k}:
-                lst = groups.setdefault((k, central), [])
+                lst = groups.setdefault((k, central, wheel), [])
                 if planet not in lst:
                     lst.append(planet)
-    return [(k, c, p) for (k, c), p in groups.items()]
+    return [(k, c, w, p) for (k, c, w), p in groups.items()]

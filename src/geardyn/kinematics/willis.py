@@ -18,6 +18,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from geardyn.errors import InputError, KinematicsError
 from geardyn.kinematics.graph import GearMesh, MechanismGraph
@@ -37,28 +39,21 @@ def multi_turning_pairs(graph: MechanismGraph) -> list[tuple[str, frozenset[str]
     for j in graph.joints:
         by_level.setdefault(j.axis, []).append((j.link_a, j.link_b))
     for level, edges in by_level.items():
-        # union-find over the edges of this level
-        parent: dict[str, str] = {}
-
-        def find(x: str) -> str:
-            parent.setdefault(x, x)
-            while parent[x] != x:
-                parent[x] = parent[parent[x]]
-                x = parent[x]
-            return x
-
-        for a, b in edges:
-            parent[find(a)] = find(b)
-        comps: dict[str, set[str]] = {}
-        for x in list(parent):
-            comps.setdefault(find(x), set()).add(x)
-        for comp in comps.values():
-            groups.append((level, frozenset(comp)))
+        names = sorted({x for e in edges for x in e})
+        pos = {x: i for i, x in enumerate(names)}
+        rows = [pos[a] for a, _ in edges]
+        cols = [pos[b] for _, b in edges]
+        adj = coo_matrix((np.ones(len(edges)), (rows, cols)), shape=(len(names), len(names)))
+        _, label = connected_components(adj, directed=False)
+        for c in range(label.max() + 1):
+            groups.append(
+                (level, frozenset(n for n, lab in zip(names, label, strict=True) if lab == c))
+            )
     return groups
 
 
 def turning_neighbourhood(graph: MechanismGraph) -> dict[str, set[str]]:
-    """``S_i`` for every link: the links joined to ``i`` by a (multiple) turning pair (seed 000 §2.3)."""
+    """``S_i`` of seed 000 §2.3 for every link: links joined to it by a (multiple) turning pair."""
     s: dict[str, set[str]] = {name: set() for name in graph.links}
     for _level, comp in multi_turning_pairs(graph):
         for link in comp:
@@ -75,8 +70,8 @@ def reference_link(mesh: GearMesh, s: Mapping[str, set[str]]) -> str:
     common = (s.get(mesh.link_a, set()) & s.get(mesh.link_b, set())) - {mesh.link_a, mesh.link_b}
     if not common:
         raise KinematicsError(
-            f"gear pair '{mesh.name}' ({mesh.link_a}–{mesh.link_b}): no common carrier — no link is "
-            f"joined by turning pairs to both '{mesh.link_a}' and '{mesh.link_b}' "
+            f"gear pair '{mesh.name}' ({mesh.link_a}–{mesh.link_b}): no common carrier — no link "
+            f"is joined by turning pairs to both '{mesh.link_a}' and '{mesh.link_b}' "
             "(seed 000 eq 1: S_i ∩ S_j must be exactly one link)"
         )
     if len(common) > 1:
