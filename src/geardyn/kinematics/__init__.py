@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 from geardyn.kinematics.frequencies import (
     CharacteristicFrequencies,
     characteristic_frequencies,
+    frequency_tracks,
     link_speeds,
     mesh_frequencies,
 )
@@ -40,6 +41,7 @@ __all__ = [
     "analyze_graph",
     "analyze_kinematics",
     "characteristic_frequencies",
+    "frequency_tracks",
     "link_speeds",
     "mesh_frequencies",
 ]

@@ -326,3 +326,56 @@ def planet_groups(analysis: KinematicAnalysis) -> list[tuple[str, str, str, list
                 if planet not in lst:
                     lst.append(planet)
     return [(k, c, w, p) for (k, c, w), p in groups.items()]
+
+
+def frequency_tracks(
+    analysis: KinematicAnalysis,
+    input_speeds_rpm: Mapping[str, np.ndarray],
+    time: np.ndarray | None = None,
+) -> xr.Dataset:
+    """Characteristic frequencies along a speed profile (run-up, run-down, variable speed).
+
+    ``input_speeds_rpm`` maps each input link to an array of speeds (rpm, signed, one value per
+    sample of ``time`` in s; all arrays of one length). Returns a dataset with dims
+    ``link``/``mesh``/``bearing`` × ``time``: ``link_hz`` (rotation frequency), ``mesh_hz``
+    (seed 000 eq 2 with the carrier of each pair), ``bpfo_hz``, ``bpfi_hz``, ``bsf_hz``,
+    ``ftf_hz``. Orders do not change along the profile (kinematic ratios are constant), so
+    they are given by :func:`characteristic_frequencies`.
+    """
+    arrays = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in input_speeds_rpm.items()}
+    lengths = {v.shape for v in arrays.values()}
+    if len(lengths) != 1 or len(next(iter(lengths))) != 1:
+        raise InputError(
+            f"input_speeds_rpm: all speed profiles must be 1-D arrays of one length (got shapes "
+            f"{ {k: v.shape for k, v in arrays.items()} })"
+        )
+    n = next(iter(arrays.values())).shape[0]
+    if time is None:
+        time = np.arange(n, dtype=float)
+    time = np.asarray(time, dtype=float)
+    if time.shape != (n,):
+        raise InputError(f"time: must have one value per speed sample ({n}), got {time.shape}")
+    g = analysis.graph
+    omega = link_speeds(analysis, arrays)  # (N, n) complex rad/s
+    data: dict[str, tuple] = {
+        "link_hz": (("link", "time"), np.abs(omega) / TWO_PI, {"units": "Hz"}),
+        "mesh_hz": (("mesh", "time"), mesh_frequencies(analysis, omega), {"units": "Hz"}),
+    }
+    coords: dict[str, object] = {
+        "time": ("time", time, {"units": "s"}),
+        "link": g.links,
+        "mesh": [m.name for m in g.meshes],
+    }
+    if g.bearings:
+        cols: dict[str, list[np.ndarray]] = {"ftf": [], "bpfo": [], "bpfi": [], "bsf": []}
+        for b in g.bearings:
+            rel = np.abs(omega[g.index(b.inner)] - omega[g.index(b.outer)]) / TWO_PI
+            bf = bearing_frequencies(
+                rel, 0.0, b.n_elements, b.element_diameter, b.pitch_diameter, b.contact_angle
+            )
+            for k in cols:
+                cols[k].append(np.asarray(getattr(bf, k)))
+        for k, v in cols.items():
+            data[f"{k}_hz"] = (("bearing", "time"), np.array(v), {"units": "Hz"})
+        coords["bearing"] = [b.name for b in g.bearings]
+    return xr.Dataset(data, coords=coords, attrs={"mechanism": g.name})
