@@ -77,3 +77,32 @@ def test_stepped_planetary_ratio():
     r = analyze_kinematics(cfg).velocity_ratios(["sun"])[:, 0]
     g = cfg.graph()
     assert r[g.index("carrier")] == pytest.approx(1 / 9, rel=1e-12)
+
+
+@pytest.mark.parametrize("fixed", ["ring", "sun", "carrier"])
+@pytest.mark.parametrize(
+    ("zs", "zp", "zr", "n"), [(16, 24, 65, 3), (19, 32, 83, 3), (21, 21, 63, 4)]
+)
+def test_simple_planetary_matches_willis_formula(fixed, zs, zp, zr, n):
+    # Willis (seed 003 eq 1.4 with K_W = −Z_s/Z_r): ω_r − ω_c = −(Z_s/Z_r)(ω_s − ω_c)
+    names = {m: ("housing" if m == fixed else m) for m in ("sun", "ring", "carrier")}
+    stage = {
+        "name": "ps",
+        **names,
+        "sun_teeth": zs,
+        "planet_teeth": zp,
+        "ring_teeth": zr,
+        "n_planets": n,
+    }
+    links = ["housing", *[m for m in ("sun", "ring", "carrier") if m != fixed]]
+    cfg = parse_config({"frame": "housing", "links": links, "planetary": [stage]})
+    kin = analyze_kinematics(cfg)
+    assert kin.dof == 1
+    free = [x for x in ("sun", "ring", "carrier") if x != fixed]
+    w = kin.speeds({free[0]: 1.0})
+    g = cfg.graph()
+    ws, wr, wc = (w[g.index(names[x])].real for x in ("sun", "ring", "carrier"))
+    assert wr - wc == pytest.approx(-zs / zr * (ws - wc), abs=1e-12)
+    # planet: ω_p − ω_c = −(Z_s/Z_p)(ω_s − ω_c)
+    wp = w[g.index("ps.planet1")].real
+    assert wp - wc == pytest.approx(-zs / zp * (ws - wc), abs=1e-12)
