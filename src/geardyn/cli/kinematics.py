@@ -70,6 +70,9 @@ def kinematics_cmd(
     ),
     order_ref: str = typer.Option(None, "--order-ref", help="link defining order 1"),
     as_json: bool = typer.Option(False, "--json", help="print JSON instead of tables"),
+    matrices: bool = typer.Option(
+        False, "--matrices", help="also print the adjacency table T and constraint matrix M"
+    ),
 ) -> None:
     """Degrees of freedom, carriers, velocity ratios and characteristic frequencies."""
     cfg = load_config(config)
@@ -79,4 +82,8 @@ def kinematics_cmd(
     if as_json:
         typer.echo(freqs.to_json())
     else:
+        if matrices:
+            console.print(df_table(analysis.adjacency_frame().reset_index(), "Adjacency table T"))
+            m = analysis.constraint_frame().map(lambda z: f"{complex(z):.4g}".strip("()"))
+            console.print(df_table(m.reset_index(), "Constraint matrix M (row 0: frame)"))
         render_kinematics(analysis, freqs)

@@ -11,6 +11,12 @@ import math
 from dataclasses import dataclass, field
 
 
+def _unit(theta: float) -> complex:
+    """e^{iθ}, exact for multiples of π/2 (so internal gears weigh exactly −N)."""
+    c, s = math.cos(theta), math.sin(theta)
+    return complex(0.0 if abs(c) < 1e-15 else c, 0.0 if abs(s) < 1e-15 else s)
+
+
 @dataclass(frozen=True)
 class GearMesh:
     """A gear pair between links ``link_a`` and ``link_b`` (seed 000 §2.2).
@@ -37,12 +43,12 @@ class GearMesh:
     @property
     def weight_a(self) -> complex:
         """Adjacency-table entry T(a, b) = N_a e^{iθ_a} (seed 000 §2.2)."""
-        return self.teeth_a * complex(math.cos(self.theta_a), math.sin(self.theta_a))
+        return self.teeth_a * _unit(self.theta_a)
 
     @property
     def weight_b(self) -> complex:
         """Adjacency-table entry T(b, a) = N_b e^{iθ_b} (seed 000 §2.2)."""
-        return self.teeth_b * complex(math.cos(self.theta_b), math.sin(self.theta_b))
+        return self.teeth_b * _unit(self.theta_b)
 
 
 @dataclass(frozen=True)

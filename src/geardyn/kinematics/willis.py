@@ -18,6 +18,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
@@ -176,6 +177,27 @@ class KinematicAnalysis:
     def reference_links(self) -> dict[str, str]:
         """Gear-pair name → reference link (seed 000 Tables 2 and 4)."""
         return {m.name: k for m, k in zip(self.graph.meshes, self.carriers, strict=True)}
+
+    def adjacency_frame(self) -> pd.DataFrame:
+        """The adjacency table as printed in seed 000 Tables 1 and 3.
+
+        Gear entries read ``N∠θ°`` (``N·e^{iθ}``), turning-pair entries ``level=<axis>``.
+        """
+        n = len(self.links)
+        cells = [["" for _ in range(n)] for _ in range(n)]
+        for i in range(n):
+            for j in range(n):
+                if not np.isnan(self.T[i, j]):
+                    z = complex(self.T[i, j])
+                    cells[i][j] = f"{abs(z):.6g}∠{np.degrees(np.angle(z)):.4g}°"
+                elif self.levels[i][j] is not None:
+                    cells[i][j] = f"level={self.levels[i][j]}"
+        return pd.DataFrame(cells, index=self.links, columns=self.links)
+
+    def constraint_frame(self) -> pd.DataFrame:
+        """The constraint matrix M (seed 000 eq 3) with named rows and columns."""
+        rows = ["frame", *[m.name for m in self.graph.meshes]]
+        return pd.DataFrame(self.M, index=rows, columns=self.links)
 
     def velocity_ratios(self, inputs: Sequence[str]) -> np.ndarray:
         """Velocity-ratio matrix ``Ω0`` normalised to ``inputs`` (seed 000 eq 5).
