@@ -142,3 +142,17 @@ def test_frequencies_car_differential_mesh_consistency(diff):
     np.testing.assert_allclose(m["teeth_b"] * m["rel_b_hz"], m["mesh_hz"], rtol=1e-12)
     # crown mesh: 13 teeth × drive-shaft speed (140 rad/s in eq 8)
     assert m.loc["2-7", "mesh_hz"] == pytest.approx(13 * 140.0 / (2 * math.pi), rel=1e-6)
+
+
+def test_alouette_adjacency_table_3(mgb):
+    t = mgb.adjacency_frame()
+    assert t.loc["housing", "planet1"] == "93∠180°"  # −N7
+    assert t.loc["planet1", "housing"] == "21∠0°"  # N6
+    assert t.loc["input", "bevel_wheel"] == "20∠-45°"  # N3 e^{−iπ/4}
+    assert t.loc["bevel_wheel", "input"] == "41∠45°"  # N4 e^{iπ/4}
+    assert t.loc["carrier1", "planet1"] == "level=4"
+    assert t.loc["main_rotor", "planet2"] == "level=5"
+    assert t.loc["housing", "tail_rotor"] == "level=3"
+    assert t.loc["input", "tail_rotor"] == ""
+    # internal gear weights are exactly −N (no rounding residue in M)
+    assert mgb.constraint_frame().loc["1-6", "housing"] == -93
