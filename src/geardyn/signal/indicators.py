@@ -1,0 +1,192 @@
+"""Condition indicators (dimensionless unless stated).
+
+Statistical: RMS (seed 003 eqs 1.20-1.21), peak, crest factor (1.22), kurtosis (1.23-1.24,
+normalised: Gaussian → 3), skewness. Gear metrics after Stewart (1977) and Zakrajsek, Townsend &
+Decker (1993, NASA TM-106032) / Decker (2002, NASA TM-2002-211491):
+
+* FM0 = peak-to-peak(TSA) / Σ amplitudes of the mesh harmonics;
+* FM4 = N Σ d⁴ / (Σ d²)² of the difference signal ``d`` (normalised kurtosis, ≈3 for Gaussian);
+* M6A = N² Σ d⁶ / (Σ d²)³ (≈15 for Gaussian); M8A = N³ Σ d⁸ / (Σ d²)⁴ (≈105 for Gaussian);
+* NA4 = N Σ (r − r̄)⁴ / [ (1/M) Σ_m Σ_n (r_mn − r̄_m)² ]² on the residual ``r`` of the current
+  record normalised by the mean variance of the M records so far (trend indicator; M=1 → FM4
+  of the residual);
+* NB4: as NA4 on the envelope of the band-passed (around the mesh frequency) TSA;
+* energy ratio ER = RMS(d) / RMS(regular);
+* sideband level factor SLF = (amplitudes of the first-order sidebands of the mesh fundamental,
+  orders Z ± 1) / RMS(TSA).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from scipy.signal import hilbert
+
+from geardyn.errors import InputError
+from geardyn.signal._checks import array1d, positive_int
+from geardyn.signal.tsa import difference_signal, regular_signal, residual_signal
+
+
+def rms(x: np.ndarray) -> float:
+    """Root mean square (seed 003 eq 1.21)."""
+    a = array1d("x", x, 1)
+    return float(np.sqrt(np.mean(a * a)))
+
+
+def peak(x: np.ndarray) -> float:
+    """Largest absolute value."""
+    return float(np.max(np.abs(array1d("x", x, 1))))
+
+
+def crest_factor(x: np.ndarray) -> float:
+    """Peak / RMS (seed 003 eq 1.22); √2 for a sine."""
+    r = rms(x)
+    if r == 0:
+        raise InputError("x: crest factor undefined for an all-zero signal")
+    return peak(x) / r
+
+
+def _moment_ratio(a: np.ndarray, p: int) -> float:
+    c = a - a.mean()
+    v = np.mean(c * c)
+    if v == 0:
+        raise InputError("x: signal is constant; normalised moments are undefined")
+    return float(np.mean(c**p) / v ** (p / 2))
+
+
+def kurtosis(x: np.ndarray) -> float:
+    """Normalised 4th moment (seed 003 eq 1.24); 3 for Gaussian, 1.5 for a sine."""
+    return _moment_ratio(array1d("x", x, 2), 4)
+
+
+def skewness(x: np.ndarray) -> float:
+    """Normalised 3rd moment; 0 for a symmetric distribution."""
+    return _moment_ratio(array1d("x", x, 2), 3)
+
+
+def _norm_moment_zero_mean(d: np.ndarray, p: int) -> float:
+    s2 = np.sum(d * d)
+    if s2 == 0:
+        raise InputError("signal: all zero; the metric is undefined")
+    n = d.size
+    return float(n ** (p // 2 - 1) * np.sum(d**p) / s2 ** (p // 2))
+
+
+def fm0(tsa_signal: np.ndarray, teeth: int, mesh_harmonics: int | None = None) -> float:
+    """FM0 = peak-to-peak of the TSA / sum of mesh-harmonic amplitudes."""
+    a = array1d("tsa_signal", tsa_signal, 4)
+    z = positive_int("teeth", teeth, "tooth count")
+    spec = np.abs(np.fft.rfft(a)) * 2.0 / a.size
+    kmax = (a.size // 2) // z if mesh_harmonics is None else mesh_harmonics
+    orders = [k * z for k in range(1, kmax + 1) if k * z < spec.size]
+    den = float(sum(spec[o] for o in orders))
+    if den == 0:
+        raise InputError("tsa_signal: no mesh-harmonic content; FM0 undefined")
+    return float((a.max() - a.min()) / den)
+
+
+def fm4(difference: np.ndarray) -> float:
+    """FM4 of a difference signal (≈3 for Gaussian)."""
+    d = array1d("difference", difference, 2)
+    return _norm_moment_zero_mean(d - d.mean(), 4)
+
+
+def m6a(difference: np.ndarray) -> float:
+    """M6A of a difference signal (≈15 for Gaussian)."""
+    d = array1d("difference", difference, 2)
+    return _norm_moment_zero_mean(d - d.mean(), 6)
+
+
+def m8a(difference: np.ndarray) -> float:
+    """M8A of a difference signal (≈105 for Gaussian)."""
+    d = array1d("difference", difference, 2)
+    return _norm_moment_zero_mean(d - d.mean(), 8)
+
+
+def na4(residual: np.ndarray, history: Sequence[np.ndarray] = ()) -> float:
+    """NA4 of the current residual signal normalised by the mean variance of ``history``
+    residuals plus the current one (records in chronological order)."""
+    r = array1d("residual", residual, 2)
+    recs = [array1d("history", h, 2) for h in history] + [r]
+    var = np.mean([np.mean((h - h.mean()) ** 2) for h in recs])
+    if var == 0:
+        raise InputError("residual: zero variance; NA4 undefined")
+    c = r - r.mean()
+    return float(np.mean(c**4) / var**2)
+
+
+def nb4(
+    tsa_signal: np.ndarray,
+    teeth: int,
+    history: Sequence[np.ndarray] = (),
+    half_band: int | None = None,
+) -> float:
+    """NB4: NA4 applied to the envelope of the TSA band-passed around the mesh fundamental
+    (orders ``Z ± half_band``, default ``Z/2``); ``history`` holds earlier TSAs."""
+    z = positive_int("teeth", teeth, "tooth count")
+    hb = z // 2 if half_band is None else positive_int("half_band", half_band)
+
+    def env(t: np.ndarray) -> np.ndarray:
+        a = array1d("tsa_signal", t, 4)
+        spec = np.fft.rfft(a)
+        o = np.arange(spec.size)
+        spec[(o < z - hb) | (o > z + hb)] = 0.0
+        return np.abs(hilbert(np.fft.irfft(spec, a.size)))
+
+    cur = env(tsa_signal)
+    return na4(cur, [env(h) for h in history])
+
+
+def energy_ratio(tsa_signal: np.ndarray, teeth: int, mesh_harmonics: int | None = None) -> float:
+    """ER = RMS(difference) / RMS(regular)."""
+    reg = regular_signal(tsa_signal, teeth, mesh_harmonics)
+    d = difference_signal(tsa_signal, teeth, mesh_harmonics)
+    den = rms(reg)
+    if den == 0:
+        raise InputError("tsa_signal: no mesh-harmonic content; energy ratio undefined")
+    return rms(d) / den
+
+
+def sideband_level_factor(tsa_signal: np.ndarray, teeth: int) -> float:
+    """SLF = (|X(Z−1)| + |X(Z+1)|) / RMS(TSA), amplitudes from the one-revolution TSA."""
+    a = array1d("tsa_signal", tsa_signal, 4)
+    z = positive_int("teeth", teeth, "tooth count")
+    spec = np.abs(np.fft.rfft(a)) * 2.0 / a.size
+    if z + 1 >= spec.size:
+        raise InputError("teeth: mesh order + 1 exceeds the TSA's Nyquist order")
+    return float((spec[z - 1] + spec[z + 1]) / rms(a))
+
+
+def gear_indicators(
+    tsa_signal: np.ndarray, teeth: int, mesh_harmonics: int | None = None
+) -> dict[str, float]:
+    """All single-record indicators of a one-revolution TSA of a gear with ``teeth`` teeth."""
+    d = difference_signal(tsa_signal, teeth, mesh_harmonics)
+    r = residual_signal(tsa_signal, teeth, mesh_harmonics)
+    return {
+        "rms": rms(tsa_signal),
+        "peak": peak(tsa_signal),
+        "crest_factor": crest_factor(tsa_signal),
+        "kurtosis": kurtosis(tsa_signal),
+        "skewness": skewness(tsa_signal),
+        "FM0": fm0(tsa_signal, teeth, mesh_harmonics),
+        "FM4": fm4(d),
+        "M6A": m6a(d),
+        "M8A": m8a(d),
+        "NA4": na4(r),
+        "NB4": nb4(tsa_signal, teeth),
+        "energy_ratio": energy_ratio(tsa_signal, teeth, mesh_harmonics),
+        "SLF": sideband_level_factor(tsa_signal, teeth),
+    }
+
+
+def signal_indicators(x: np.ndarray) -> dict[str, float]:
+    """RMS, peak, crest factor, kurtosis and skewness of any signal."""
+    return {
+        "rms": rms(x),
+        "peak": peak(x),
+        "crest_factor": crest_factor(x),
+        "kurtosis": kurtosis(x),
+        "skewness": skewness(x),
+    }
