@@ -111,7 +111,7 @@ def planetary_tsa(
     planet: int = 0,
     planet_angles: np.ndarray | None = None,
     sensor_angle: float = 0.0,
-    window_teeth: int = 1,
+    window_teeth: int = 2,
 ) -> np.ndarray:
     """Planet-separated TSA (McFadden's window technique) of a ring-sensor signal sampled at
     ``samples_per_carrier_rev`` per carrier revolution (ring fixed).
@@ -141,7 +141,7 @@ def planetary_tsa(
     spt = spc // zr  # samples per ring-mesh period
     m = zg * spt  # samples per averaged-gear revolution (mesh-count frame)
     half = wt * spt // 2
-    win = np.hanning(2 * half + 1)
+    win = np.hanning(2 * half + 3)[1:-1]  # no zero end points
     acc = np.zeros(m)
     wsum = np.zeros(m)
     nrev = a.size // spc
