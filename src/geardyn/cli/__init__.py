@@ -17,7 +17,9 @@ app = typer.Typer(
 )
 
 # Command modules register themselves on import (one line each).
+from geardyn.cli import analyze as _analyze  # noqa: E402,F401
 from geardyn.cli import demo as _demo  # noqa: E402,F401
 from geardyn.cli import kinematics as _kinematics  # noqa: E402,F401
+from geardyn.cli import stiffness as _stiffness  # noqa: E402,F401
 
 __all__ = ["app"]

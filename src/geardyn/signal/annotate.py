@@ -96,7 +96,11 @@ def planet_dominant_components(
     """Seed 003 §4.1 dominant-sideband rule for a sensor on the central member ``row.central``
     of a planetary set: near mesh harmonic h, the largest component is at ``N·round(h·Z/N)``
     orders of the carrier-relative rotation ``f_rel = f_pp/N`` (Z = teeth of the central gear).
+    Only given for a non-rotating central member (a fixed ring carrying the accelerometer).
     """
+    links = freqs.links.set_index("link")
+    if row["central"] in links.index and float(links.loc[row["central"], "hz"]) != 0.0:
+        return []
     n = int(row["n_planets"])
     f_rel = float(row["planet_pass_hz"]) / n
     m = freqs.meshes

@@ -1,0 +1,150 @@
+"""``geardyn analyze SIGNAL --config CONFIG.toml --speed LINK=RPM --out report/``.
+
+Reads a signal (WAV/CSV/NumPy/NetCDF), resamples it to the angle of the reference shaft (from a
+constant speed or tacho/encoder pulses), and writes: an annotated order spectrum, a time
+spectrogram, the TSA of the reference shaft, its cepstrum, an indicator table and the marker
+table (figures as PNG, tables as CSV, the order spectrum as NetCDF).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import typer
+
+from geardyn.cli import app
+from geardyn.cli.common import console, friendly_errors, parse_assignments
+from geardyn.config import load_config
+from geardyn.errors import InputError
+from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
+
+
+def _choose_spr(max_mesh_order: float, fs: float, f_ref_max: float) -> int:
+    want = max(256.0, 2.56 * 3.3 * max_mesh_order)
+    cap = max(16.0, fs / f_ref_max)
+    return int(2 ** math.ceil(math.log2(min(want, cap))))
+
+
+@app.command("analyze")
+@friendly_errors
+def analyze(
+    signal: Path = typer.Argument(..., help="signal file: .wav, .csv, .npy, .npz or .nc"),
+    config: Path = typer.Option(..., "--config", "-c", help="mechanism TOML (kinematics)"),
+    speed: list[str] = typer.Option(
+        None, "--speed", "-s", help="constant speed LINK=RPM of the reference shaft"
+    ),
+    tacho: Path | None = typer.Option(
+        None, "--tacho", help="pulse-time file [s] of the reference shaft (tacho or encoder)"
+    ),
+    pulses_per_rev: int = typer.Option(1, "--ppr", help="pulses per revolution of --tacho"),
+    reference: str | None = typer.Option(
+        None, "--reference", "-r", help="reference link of --tacho (default: first input)"
+    ),
+    fs: float | None = typer.Option(None, "--fs", help="sample rate [Hz] if not in the file"),
+    channel: str | None = typer.Option(None, "--channel", help="channel name or index"),
+    samples_per_rev: int | None = typer.Option(None, "--samples-per-rev"),
+    out: Path = typer.Option(Path("report"), "--out", "-o", help="output directory"),
+) -> None:
+    """Order spectrum (annotated), spectrogram, TSA, cepstrum and indicators of a signal."""
+    from geardyn.signal import (
+        gear_indicators,
+        order_spectrum,
+        power_cepstrum,
+        resample_to_angle,
+        signal_indicators,
+        spectral_markers,
+        stft,
+        tsa,
+    )
+    from geardyn.signal.plots import plot_cepstrum, plot_map, plot_spectrum, plot_tsa
+    from geardyn.signal_io import read_pulse_times, read_signal
+
+    rec = read_signal(signal, fs, channel)
+    cfg = load_config(config)
+    kin = analyze_kinematics(cfg)
+    speeds = parse_assignments(speed, "--speed")
+    if len(speeds) > 1:
+        raise InputError("--speed: give the speed of one reference link only")
+    pulses = read_pulse_times(tacho) if tacho is not None else None
+    if pulses is None and not speeds and rec.pulse_times is not None:
+        pulses = rec.pulse_times
+    if pulses is None and not speeds:
+        raise InputError("--speed or --tacho: the reference shaft speed is needed")
+    if speeds:
+        ref, rpm = next(iter(speeds.items()))
+        if rpm <= 0:
+            raise InputError(f"--speed: {ref} speed must be > 0 rpm, got {rpm:g}")
+    else:
+        ref = reference or (next(iter(cfg.input_speeds_rpm)) if cfg.input_speeds_rpm else None)
+        if ref is None:
+            raise InputError("--reference: name the link that carries the tacho")
+        ppr = int(pulses_per_rev)
+        if ppr < 1:
+            raise InputError(f"--ppr: pulses per revolution must be >= 1, got {ppr}")
+        rpm = 60.0 * (pulses.size - 1) / ppr / (pulses[-1] - pulses[0])
+    freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
+    f_ref = rpm / 60.0
+    max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
+    if pulses is None:
+        t = np.arange(rec.x.size) / rec.fs
+        angle = 2 * np.pi * f_ref * t
+        f_ref_max = f_ref
+    else:
+        angle = None
+        f_ref_max = float(np.max(1.0 / np.diff(pulses))) / pulses_per_rev
+    spr = samples_per_rev or _choose_spr(max_mesh, rec.fs, f_ref_max)
+    if angle is not None:
+        sig = resample_to_angle(rec.x, rec.fs, angle, samples_per_rev=spr)
+    else:
+        sig = resample_to_angle(
+            rec.x, rec.fs, pulse_times=pulses, pulses_per_rev=pulses_per_rev,
+            samples_per_rev=spr,
+        )
+    out.mkdir(parents=True, exist_ok=True)
+    spec = order_spectrum(sig.x, spr)
+    markers = spectral_markers(freqs)
+    xmax = min(sig.max_valid_order, spr / 2, 3.3 * max_mesh)
+    figs = {
+        "order_spectrum.png": plot_spectrum(
+            spec, markers, xmax, f"Order spectrum, orders of '{ref}' at {rpm:.6g} rpm"
+        )
+    }
+    nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
+    figs["spectrogram.png"] = plot_map(
+        stft(rec.x, rec.fs, nperseg=nper), ymax=min(rec.fs / 2, 3.3 * max_mesh * f_ref_max),
+        title="STFT (time)",
+    )
+    start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
+    rows = [{"signal": "raw", **signal_indicators(rec.x)}]
+    if sig.x.size - start >= spr:
+        avg = tsa(sig.x[start:], spr)
+        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(sig.x.size - start) // spr} revs)")
+        rows.append({"signal": f"TSA {ref}", **signal_indicators(avg)})
+        for _, w in freqs.wheels[freqs.wheels["link"] == ref].iterrows():
+            z = int(w["teeth"])
+            if z + 1 < spr // 2:
+                rows.append({"signal": f"TSA {ref}, gear {w['wheel']}", **gear_indicators(avg, z)})
+    cep = power_cepstrum(sig.x, spr)
+    figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, sig.revolutions / 2),
+                                         title="Power cepstrum (quefrency in revolutions)")
+    import matplotlib.pyplot as plt
+
+    for name, fig in figs.items():
+        fig.savefig(out / name, dpi=110)
+        plt.close(fig)
+    ind = pd.DataFrame(rows)
+    ind.to_csv(out / "indicators.csv", index=False)
+    markers.to_csv(out / "markers.csv", index=False)
+    spec.to_netcdf(out / "order_spectrum.nc", engine="scipy")
+    console.print(
+        f"[bold]{signal.name}[/]: {rec.x.size} samples at {rec.fs:g} Hz; reference '{ref}' "
+        f"{rpm:.6g} rpm; {sig.revolutions:.1f} revs at {spr} samples/rev "
+        f"(orders ≤ {sig.max_valid_order:.4g} valid)"
+    )
+    top = spec.where(spec["order"] > 0.5, 0).to_series().nlargest(5)
+    console.print("largest orders: " + ", ".join(f"{o:.4g} ({a:.3g})" for o, a in top.items()))
+    console.print(f"wrote {', '.join(sorted(figs))}, indicators.csv, markers.csv, "
+                  f"order_spectrum.nc to {out}/")

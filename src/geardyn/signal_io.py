@@ -1,0 +1,230 @@
+"""Reading measured or simulated signals with their sample rate (or pulse times).
+
+Formats (by extension): ``.wav`` (rate from the file; integer PCM scaled to ±1), ``.csv``
+(columns; a ``time`` column [s] gives the rate, else pass ``fs``), ``.npy`` (array; pass
+``fs``), ``.npz`` (keys ``x`` or ``signal``, ``fs``, optional ``pulse_times``), ``.nc``
+(NetCDF3 via scipy, NetCDF4 via h5netcdf + h5py: a data variable along a ``time``
+coordinate [s] or with an ``fs`` / ``sample_rate`` attribute). Pulse times (tacho or encoder
+edges, [s]) are read by
+:func:`read_pulse_times` from ``.csv``/``.txt``/``.npy`` (one column) or the ``pulse_times``
+entry of ``.npz``/``.nc``. Every failure is an :class:`~geardyn.errors.InputError` naming the
+file and the rule.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from geardyn.errors import InputError
+
+_FS_KEYS = ("fs", "sample_rate", "sampling_rate", "sample_rate_hz")
+
+
+@dataclass
+class SignalRecord:
+    """One channel ``x`` sampled at ``fs`` [Hz]; optional ``pulse_times`` [s] stored with it."""
+
+    x: np.ndarray
+    fs: float
+    name: str = "signal"
+    units: str = ""
+    pulse_times: np.ndarray | None = None
+    channels: list[str] = field(default_factory=list)
+
+    @property
+    def duration(self) -> float:
+        return self.x.size / self.fs
+
+
+def _fs_from_time(t: np.ndarray, src: str) -> float:
+    dt = np.diff(np.asarray(t, dtype=float))
+    if dt.size == 0 or np.any(dt <= 0):
+        raise InputError(f"{src}: the time column must increase strictly")
+    if np.max(np.abs(dt - dt.mean())) > 1e-6 * dt.mean() + 1e-12:
+        raise InputError(f"{src}: time samples are not uniformly spaced; resample first")
+    return 1.0 / float(dt.mean())
+
+
+def _check_fs(fs: float | None, src: str) -> float:
+    if fs is None:
+        raise InputError(f"{src}: the file holds no sample rate; pass fs (Hz)")
+    v = float(fs)
+    if not np.isfinite(v) or v <= 0:
+        raise InputError(f"fs: sample rate must be > 0, got {fs!r}")
+    return v
+
+
+def _pick(names: list[str], channel: str | int | None, src: str) -> int:
+    if channel is None:
+        return 0
+    if isinstance(channel, int) or (isinstance(channel, str) and channel.isdigit()):
+        i = int(channel)
+        if not 0 <= i < len(names):
+            raise InputError(f"channel: index {i} out of range; {src} has channels {names}")
+        return i
+    if channel not in names:
+        raise InputError(f"channel: {channel!r} not found; {src} has channels {names}")
+    return names.index(channel)
+
+
+def read_signal(
+    path: str | Path, fs: float | None = None, channel: str | int | None = None
+) -> SignalRecord:
+    """Read one channel of a signal file (see module doc for the formats)."""
+    p = Path(path)
+    src = str(p)
+    if not p.is_file():
+        raise InputError(f"signal: file {src} does not exist")
+    ext = p.suffix.lower()
+    pulses = None
+    units = ""
+    try:
+        if ext == ".wav":
+            from scipy.io import wavfile
+
+            rate, data = wavfile.read(p)
+            data = np.asarray(data)
+            if np.issubdtype(data.dtype, np.integer):
+                data = data.astype(float) / float(np.iinfo(data.dtype).max + 1)
+            data = data.reshape(data.shape[0], -1).astype(float)
+            names = [str(i) for i in range(data.shape[1])]
+            i = _pick(names, channel, src)
+            x, rate_hz = data[:, i], float(rate)
+            if fs is not None and abs(float(fs) - rate_hz) > 1e-9 * rate_hz:
+                raise InputError(f"fs: {fs} Hz contradicts the WAV header ({rate_hz} Hz)")
+        elif ext in (".csv", ".txt"):
+            import pandas as pd
+
+            df = pd.read_csv(p)
+            cols = [str(c) for c in df.columns]
+            tcol = next((c for c in cols if c.strip().lower() in ("time", "t", "time_s")), None)
+            data_cols = [c for c in cols if c != tcol]
+            if not data_cols:
+                raise InputError(f"{src}: no data column besides the time column")
+            i = _pick(data_cols, channel, src)
+            x = df[data_cols[i]].to_numpy(dtype=float)
+            rate_hz = _fs_from_time(df[tcol].to_numpy(), src) if tcol else _check_fs(fs, src)
+            names = data_cols
+        elif ext == ".npy":
+            data = np.load(p, allow_pickle=False)
+            data = data.reshape(data.shape[0], -1)
+            names = [str(i) for i in range(data.shape[1])]
+            x = data[:, _pick(names, channel, src)].astype(float)
+            rate_hz = _check_fs(fs, src)
+        elif ext == ".npz":
+            with np.load(p, allow_pickle=False) as z:
+                key = next((k for k in ("x", "signal") if k in z), None)
+                if key is None:
+                    raise InputError(f"{src}: needs an 'x' or 'signal' array; has {list(z)}")
+                x = np.asarray(z[key], dtype=float).ravel()
+                fk = next((k for k in _FS_KEYS if k in z), None)
+                rate_hz = float(z[fk]) if fk else _check_fs(fs, src)
+                pulses = np.asarray(z["pulse_times"], float) if "pulse_times" in z else None
+                names = [key]
+        elif ext in (".nc", ".netcdf", ".h5"):
+            with _open_nc(p) as ds:
+                dv = [v for v in ds.data_vars if v != "pulse_times"]
+                if not dv:
+                    raise InputError(f"{src}: no data variable")
+                i = _pick([str(v) for v in dv], channel, src)
+                da = ds[dv[i]]
+                x = np.asarray(da.values, dtype=float).ravel()
+                fk = next((k for k in _FS_KEYS if k in da.attrs or k in ds.attrs), None)
+                if fk:
+                    rate_hz = float(da.attrs.get(fk, ds.attrs.get(fk)))
+                elif "time" in da.coords:
+                    rate_hz = _fs_from_time(da["time"].values, src)
+                else:
+                    rate_hz = _check_fs(fs, src)
+                units = str(da.attrs.get("units", ""))
+                if "pulse_times" in ds:
+                    pulses = np.asarray(ds["pulse_times"].values, dtype=float)
+                names = [str(v) for v in dv]
+        else:
+            raise InputError(
+                f"signal: unsupported file type {ext!r} ({src}); use .wav, .csv, .npy, .npz, .nc"
+            )
+    except InputError:
+        raise
+    except Exception as exc:  # malformed file → one clear message
+        raise InputError(f"signal: cannot read {src}: {exc}") from None
+    if x.size < 16:
+        raise InputError(f"{src}: signal has {x.size} samples; at least 16 are needed")
+    if not np.all(np.isfinite(x)):
+        raise InputError(f"{src}: signal contains NaN or infinite values")
+    return SignalRecord(x, float(rate_hz), names[_pick(names, channel, src)] if names else "x",
+                        units, pulses, names)
+
+
+def read_pulse_times(path: str | Path) -> np.ndarray:
+    """Pulse times [s] (tacho/encoder edges), strictly increasing."""
+    p = Path(path)
+    src = str(p)
+    if not p.is_file():
+        raise InputError(f"pulse_times: file {src} does not exist")
+    ext = p.suffix.lower()
+    try:
+        if ext in (".csv", ".txt"):
+            import pandas as pd
+
+            df = pd.read_csv(p)
+            tp = df.iloc[:, 0].to_numpy(dtype=float)
+        elif ext == ".npy":
+            tp = np.load(p, allow_pickle=False).astype(float).ravel()
+        elif ext in (".npz", ".nc"):
+            rec = read_signal(p) if ext == ".nc" else None
+            if ext == ".npz":
+                with np.load(p, allow_pickle=False) as z:
+                    tp = np.asarray(z["pulse_times"], dtype=float)
+            else:
+                tp = rec.pulse_times if rec is not None else None
+            if tp is None:
+                raise InputError(f"pulse_times: {src} has no 'pulse_times' variable")
+        else:
+            raise InputError(f"pulse_times: unsupported file type {ext!r} ({src})")
+    except InputError:
+        raise
+    except Exception as exc:
+        raise InputError(f"pulse_times: cannot read {src}: {exc}") from None
+    if tp.size < 3 or not np.all(np.diff(tp) > 0):
+        raise InputError(f"pulse_times: {src} needs >= 3 strictly increasing times")
+    return tp
+
+
+def write_signal_netcdf(
+    path: str | Path,
+    x: np.ndarray,
+    fs: float,
+    name: str = "signal",
+    units: str = "",
+    pulse_times: np.ndarray | None = None,
+) -> Path:
+    """Write a signal (and optional pulse times) as NetCDF readable by :func:`read_signal`."""
+    import xarray as xr
+
+    f = _check_fs(fs, "fs")
+    a = np.asarray(x, dtype=float)
+    ds = xr.Dataset({name: (("time",), a, {"units": units, "fs": f})},
+                    coords={"time": np.arange(a.size) / f})
+    if pulse_times is not None:
+        ds["pulse_times"] = (("pulse",), np.asarray(pulse_times, dtype=float), {"units": "s"})
+    p = Path(path)
+    ds.to_netcdf(p, engine="scipy")  # NetCDF3 via scipy: no HDF5 library needed
+    return p
+
+
+def _open_nc(p: Path):
+    import xarray as xr
+
+    try:
+        return xr.open_dataset(p)
+    except (ImportError, ValueError) as exc:
+        if "h5py" in str(exc) or "engine" in str(exc):
+            raise InputError(
+                f"signal: {p} is NetCDF4/HDF5, which needs the h5py package (pip install h5py); "
+                "NetCDF3 files are read without it"
+            ) from None
+        raise
