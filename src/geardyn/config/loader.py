@@ -7,8 +7,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from pydantic import ValidationError
+from pydantic import Field, ValidationError, model_validator
 
+from geardyn.config.gears import GearGeometryConfig, check_gear_geometry
 from geardyn.config.mechanism import Mechanism
 from geardyn.errors import ConfigError
 
@@ -19,6 +20,18 @@ class GeardynConfig(Mechanism):
     Analysis modules add their sections here as optional fields (e.g. gear geometry, model and
     simulation settings); a file holding only a mechanism is a valid config.
     """
+
+    gear_geometry: list[GearGeometryConfig] = Field(
+        default_factory=list,
+        description="gear geometry attached to named gear pairs (see geardyn.config.gears)",
+    )
+
+    @model_validator(mode="after")
+    def _check_gear_geometry(self) -> GeardynConfig:
+        problems = check_gear_geometry(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
 
 
 def _loc_to_path(loc: tuple[Any, ...], data: Any) -> str:

@@ -1,0 +1,75 @@
+"""``geardyn stiffness CONFIG --pair NAME [--plot out.png]``: geometry and mesh stiffness k(θ)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from geardyn.cli import app
+from geardyn.cli.common import console, friendly_errors
+from geardyn.config import load_config
+from geardyn.config.gears import pair_model, pair_names
+from geardyn.errors import ConfigError
+
+
+@app.command("stiffness")
+@friendly_errors
+def stiffness_cmd(
+    config: Path = typer.Argument(..., help="TOML config with [[gear_geometry]] entries"),
+    pair: str | None = typer.Option(None, "--pair", help="gear pair name (default: all pairs)"),
+    plot: Path | None = typer.Option(None, "--plot", help="write k(θ) to this PNG"),
+    cycles: float = typer.Option(2.0, "--cycles", help="mesh cycles to tabulate/plot"),
+    hunting: bool = typer.Option(False, "--hunting", help="tabulate a full hunting period"),
+    samples: int = typer.Option(128, "--samples", help="samples per mesh cycle"),
+    netcdf: Path | None = typer.Option(None, "--netcdf", help="write the table (xarray)"),
+) -> None:
+    """Gear-pair geometry and potential-energy mesh stiffness (healthy and with faults)."""
+    from geardyn.gears.pe_stiffness import mesh_stiffness
+    from geardyn.gears.plot import plot_stiffness
+
+    cfg = load_config(config)
+    names = [pair] if pair else pair_names(cfg)
+    if not names:
+        raise ConfigError("the config has no [[gear_geometry]] entries", source=str(config))
+    if plot is not None and len(names) > 1:
+        raise ConfigError("--plot needs --pair NAME when the config has several pairs")
+    if samples < 4 or cycles <= 0:
+        raise ConfigError("--samples must be ≥ 4 and --cycles > 0")
+    for name in names:
+        pm = pair_model(cfg, name)
+        g = pm.geometry
+        n_cycles = None if hunting else cycles
+        healthy = mesh_stiffness(g, n_per_cycle=samples, n_cycles=n_cycles)
+        faulty = (
+            mesh_stiffness(g, n_per_cycle=samples, n_cycles=n_cycles, faults=pm.faults)
+            if pm.faults
+            else None
+        )
+        t = Table(
+            title=f"gear pair '{name}' (z = {g.a.teeth}/{g.b.teeth}"
+            f"{', internal' if g.internal else ''})",
+            title_justify="left",
+        )
+        t.add_column("quantity")
+        t.add_column("value", justify="right")
+        for k, v in g.summary().items():
+            t.add_row(k, f"{v * 1e3:.4f} mm" if k.endswith("_m") else f"{v:.5f}")
+        k = healthy.total
+        t.add_row("k mean (N/m)", f"{k.mean():.4e}")
+        t.add_row("k min / max (N/m)", f"{k.min():.4e} / {k.max():.4e}")
+        t.add_row("fluctuation (max−min)/mean", f"{np.ptp(k) / k.mean():.4f}")
+        t.add_row("torsional mean k·r_b,a² (N·m/rad)", f"{healthy.torsional.mean():.4e}")
+        if faulty is not None:
+            kf = faulty.total
+            t.add_row("with faults: k min (N/m)", f"{kf.min():.4e}")
+            t.add_row("max stiffness loss", f"{np.max(1 - kf / k):.2%}")
+        console.print(t)
+        if netcdf is not None:
+            (faulty or healthy).to_xarray().to_netcdf(netcdf, engine="h5netcdf")
+            console.print(f"table written to {netcdf}")
+        if plot is not None:
+            plot_stiffness(healthy, plot, faulty)
+            console.print(f"plot written to {plot}")
