@@ -67,6 +67,19 @@ def test_pulse_times_from_sampled_angle_history_match_closed_form():
     assert np.max(np.abs(tp[:n] - exact[:n])) < 1e-10
 
 
+def test_simulate_ias_from_a_speed_history():
+    from geardyn.signal import angle_from_speed
+
+    t = np.linspace(0.0, 1.0, 100_001)
+    theta = angle_from_speed(t, W0 + ALPHA * t)  # trapezoid: exact for a linear speed law
+    np.testing.assert_allclose(theta, W0 * t + 0.5 * ALPHA * t**2, rtol=1e-12, atol=1e-12)
+    m = simulate_ias(t, theta)  # seed 002 defaults: 1000 pulses/rev, 80 MHz
+    assert m.pulses_per_rev == 1000 and m.f_clock == 80e6
+    exact = exact_pulse_times(theta[-1] / (2 * np.pi))
+    true_mean = (2 * np.pi / R) / np.diff(exact)[: m.ias.size]
+    assert np.all(np.abs(m.ias - true_mean) <= m.bound * 1.0001)
+
+
 def test_graduation_error_gives_analytic_ias_pattern():
     w = 100.0  # rad/s, constant
     t = np.linspace(0, 0.2, 20_001)

@@ -28,6 +28,7 @@ from geardyn.signal.indicators import (
 from geardyn.signal.resample import (
     AngleSignal,
     angle_from_pulses,
+    angle_from_speed,
     distant_shaft,
     lowpass,
     resample_ias_to_angle,
@@ -66,6 +67,7 @@ __all__ = [
     "AngleSignal",
     "amplitude_spectrum",
     "angle_from_pulses",
+    "angle_from_speed",
     "angular_spectrogram",
     "annotate_axes",
     "crest_factor",

@@ -85,6 +85,24 @@ def speed_from_pulses(
     return 0.5 * (tp[1:] + tp[:-1]), (2.0 * np.pi / r) / np.diff(tp)
 
 
+def angle_from_speed(
+    time: np.ndarray, speed: np.ndarray, angle0: float = 0.0
+) -> np.ndarray:
+    """Shaft angle [rad] by trapezoidal integration of a speed history [rad/s] (exact for a
+    piecewise-linear speed law). Use it to feed :func:`geardyn.sensors.simulate_ias` or
+    :func:`resample_to_angle` when a model outputs speed only."""
+    t = array1d("time", time, 2, "time vector")
+    w = array1d("speed", speed, 2, "speed history")
+    if t.size != w.size:
+        raise InputError(f"speed: length {w.size} differs from time length {t.size}")
+    increasing("time", t)
+    out = np.empty_like(t)
+    out[0] = angle0
+    np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t), out=out[1:])
+    out[1:] += angle0
+    return out
+
+
 def speed_from_angle(time: np.ndarray, angle: np.ndarray) -> np.ndarray:
     """Angular speed [rad/s] ``dθ/dt`` (second-order finite differences)."""
     t = array1d("time", time, 3, "time vector")
@@ -242,6 +260,7 @@ def resample_ias_to_angle(
 __all__ = [
     "AngleSignal",
     "angle_from_pulses",
+    "angle_from_speed",
     "distant_shaft",
     "lowpass",
     "resample_ias_to_angle",
