@@ -103,6 +103,11 @@ def analyze(
             rec.x, rec.fs, pulse_times=pulses, pulses_per_rev=pulses_per_rev,
             samples_per_rev=spr,
         )
+    if max_mesh > sig.max_valid_order:
+        console.print(
+            f"[yellow]warning:[/] mesh order {max_mesh:.4g} is beyond the valid order range "
+            f"(≤ {sig.max_valid_order:.4g}); increase --samples-per-rev"
+        )
     out.mkdir(parents=True, exist_ok=True)
     spec = order_spectrum(sig.x, spr)
     markers = spectral_markers(freqs)
