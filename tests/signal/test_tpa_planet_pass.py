@@ -147,3 +147,27 @@ def test_annotation_markers_for_the_bench():
         assert np.min(np.abs(dom - target)) < 0.05
     shaft = mk[mk.kind == "shaft"]["order"].values
     assert np.any(np.isclose(shaft, 1.0)) and np.any(np.isclose(shaft, 16 / 81))
+
+
+def test_annotation_bearing_and_planetary_markers():
+    from geardyn.config import parse_config
+
+    inch = 0.0254
+    cfg = parse_config({
+        "name": "shaft + planetary", "frame": "housing",
+        "links": ["housing", "shaft", "out", "carrier"],
+        "parallel": [{"name": "stage", "a": {"link": "shaft", "teeth": 20},
+                      "b": {"link": "out", "teeth": 60}}],
+        "planetary": [{"name": "ps", "sun": "out", "ring": "housing", "carrier": "carrier",
+                       "sun_teeth": 20, "planet_teeth": 30, "ring_teeth": 80, "n_planets": 4}],
+        "bearings": [{"name": "shaft_DE", "inner": "shaft", "outer": "housing", "n_elements": 9,
+                      "element_diameter_m": 0.3126 * inch, "pitch_diameter_m": 1.537 * inch}],
+    })
+    f = characteristic_frequencies(analyze_kinematics(cfg), {"shaft": 1797.0})
+    mk = spectral_markers(f)
+    bpfo = mk[mk.label.str.startswith("1BPFO shaft_DE")]
+    assert float(bpfo.hz.iloc[0]) == pytest.approx(3.5848 * 29.95, abs=0.01)  # hand value
+    f_c = 29.95 * 20 / 60 * 20 / 100
+    dom = mk[mk.kind == "planet_dominant"].hz.values
+    # Z_r = 80, N = 4: h·Z_r is a multiple of N → dominant exactly at the mesh harmonics
+    np.testing.assert_allclose(np.sort(dom), [80 * f_c, 160 * f_c, 240 * f_c], rtol=1e-9)
