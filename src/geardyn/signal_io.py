@@ -174,15 +174,16 @@ def read_pulse_times(path: str | Path) -> np.ndarray:
             tp = df.iloc[:, 0].to_numpy(dtype=float)
         elif ext == ".npy":
             tp = np.load(p, allow_pickle=False).astype(float).ravel()
-        elif ext in (".npz", ".nc"):
-            rec = read_signal(p) if ext == ".nc" else None
-            if ext == ".npz":
-                with np.load(p, allow_pickle=False) as z:
-                    tp = np.asarray(z["pulse_times"], dtype=float)
-            else:
-                tp = rec.pulse_times if rec is not None else None
-            if tp is None:
-                raise InputError(f"pulse_times: {src} has no 'pulse_times' variable")
+        elif ext == ".npz":
+            with np.load(p, allow_pickle=False) as z:
+                if "pulse_times" not in z:
+                    raise InputError(f"pulse_times: {src} has no 'pulse_times' array")
+                tp = np.asarray(z["pulse_times"], dtype=float).ravel()
+        elif ext == ".nc":
+            with _open_nc(p) as ds:
+                if "pulse_times" not in ds:
+                    raise InputError(f"pulse_times: {src} has no 'pulse_times' variable")
+                tp = np.asarray(ds["pulse_times"].values, dtype=float).ravel()
         else:
             raise InputError(f"pulse_times: unsupported file type {ext!r} ({src})")
     except InputError:

@@ -87,3 +87,17 @@ def test_signal_io_round_trips(tmp_path):
     (tmp_path / "a.xyz").write_text("1\n2\n")
     with pytest.raises(InputError, match="unsupported"):
         read_signal(tmp_path / "a.xyz")
+
+
+def test_pulse_times_from_netcdf_and_csv(tmp_path):
+    from geardyn.signal_io import write_signal_netcdf
+
+    tp = np.arange(1, 6) * 0.25
+    write_signal_netcdf(tmp_path / "s.nc", np.zeros(64), 100.0, pulse_times=tp)
+    np.testing.assert_allclose(read_pulse_times(tmp_path / "s.nc"), tp)
+    assert read_signal(tmp_path / "s.nc").fs == 100.0
+    pd.DataFrame({"t": tp}).to_csv(tmp_path / "p.csv", index=False)
+    np.testing.assert_allclose(read_pulse_times(tmp_path / "p.csv"), tp)
+    pd.DataFrame({"t": tp[::-1]}).to_csv(tmp_path / "bad.csv", index=False)
+    with pytest.raises(InputError, match="strictly increasing"):
+        read_pulse_times(tmp_path / "bad.csv")

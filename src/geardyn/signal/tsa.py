@@ -117,7 +117,9 @@ def planetary_tsa(
     ``samples_per_carrier_rev`` per carrier revolution (ring fixed).
 
     On every carrier revolution, planet ``planet`` passes the sensor at carrier angle
-    ``sensor_angle + ψ_planet``; a Hann window spanning ``window_teeth`` ring-mesh
+    ``sensor_angle + ψ_planet`` (``sensor_angle``: carrier angle [rad] at which planet 0 is
+    closest to the sensor; for :func:`geardyn.sensors.planet_pass_signal` that is its
+    ``sensor_angle + π/N``); a Hann window spanning ``window_teeth`` ring-mesh
     periods (``2π/Z_r`` carrier rad each) is cut around that instant and placed, in the frame of
     the averaged gear (``gear_teeth`` teeth: the planet's ``Z_p`` or the sun's ``Z_s``), at the
     mesh count reached, modulo one gear revolution. Averaging the windowed pieces (weighted by
@@ -137,7 +139,13 @@ def planetary_tsa(
         )
     if not 0 <= planet < n:
         raise InputError(f"planet: must be in 0..{n - 1}, got {planet}")
-    psi = 2 * np.pi * np.arange(n) / n if planet_angles is None else np.asarray(planet_angles)
+    psi = (
+        2 * np.pi * np.arange(n) / n
+        if planet_angles is None
+        else array1d("planet_angles", planet_angles, n, "planet angles [rad]")
+    )
+    if psi.size != n:
+        raise InputError(f"planet_angles: needs {n} angles (one per planet), got {psi.size}")
     spt = spc // zr  # samples per ring-mesh period
     m = zg * spt  # samples per averaged-gear revolution (mesh-count frame)
     half = wt * spt // 2
