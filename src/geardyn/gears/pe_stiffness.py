@@ -267,10 +267,10 @@ def mesh_stiffness(
     if n_slices is None:
         n_slices = 1 if (g.helix_angle == 0.0 and not faults) else 24
     n_total = int(round(cycles * n_per_cycle))
-    # a healthy mesh is periodic over one mesh cycle: compute one cycle and tile it
-    periodic = not faults and n_total > n_per_cycle
-    n = n_per_cycle if periodic else n_total
-    xi = np.arange(n) / n_per_cycle
+    # the healthy mesh is periodic over one mesh cycle: compute one cycle and tile it; faults
+    # are then applied only to the (angle, pair) entries where the faulty tooth is in contact
+    n = min(n_per_cycle, n_total)
+    xi1 = np.arange(n) / n_per_cycle
     b = g.face_width
     dz = b / n_slices
     zk = (np.arange(n_slices) + 0.5) * dz
@@ -278,51 +278,51 @@ def mesh_stiffness(
     pbt = g.base_pitch
     n_pairs = int(math.ceil((g.path_length + lag[-1]) / pbt)) + 1
     ugrid = _grid(g, grid_points)
-    comp = pair_compliance_curve(g, ugrid)
-    kgrid = 1.0 / comp  # per unit width
-
+    kgrid = 1.0 / pair_compliance_curve(g, ugrid)  # per unit width
     age = np.arange(n_pairs)
-    j = np.floor(xi)[:, None] - age[None, :]  # pair index (entered at mesh count j)
-    # position of slice k of pair j: u = u_start + (ξ − j)·p_bt − lag_k
-    u0 = g.u_start + (xi[:, None] - j) * pbt  # (n, P)
-    u = u0[:, :, None] - lag[None, None, :]  # (n, P, K)
-    inside = (u >= g.u_start - 1e-12) & (u <= g.u_end + 1e-12)
-    kslice = np.where(inside, np.interp(u, ugrid, kgrid) * dz, 0.0)
+
+    def positions(x: np.ndarray, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        # slice k of the pair that entered at mesh count j = floor(ξ) − age:
+        # u = u_start + (ξ − j)·p_bt − lag_k
+        u = (g.u_start + (x - (np.floor(x) - a)) * pbt)[..., None] - lag
+        return u, (u >= g.u_start - 1e-12) & (u <= g.u_end + 1e-12)
+
+    u1, in1 = positions(xi1[:, None], age[None, :])  # (n, P, K)
+    pair1 = np.where(in1, np.interp(u1, ugrid, kgrid) * dz, 0.0).sum(axis=2)
+    mid = n_slices // 2
+    cu1 = np.where(in1[:, :, mid], u1[:, :, mid], np.nan)
+    reps = -(-n_total // n)
+    pair_k = np.tile(pair1, (reps, 1))[:n_total]
+    cu = np.tile(cu1, (reps, 1))[:n_total]
+    xi = np.arange(n_total) / n_per_cycle
+    j = np.floor(xi)[:, None] - age[None, :]
     ja = np.mod(j, g.a.teeth).astype(int)
     jb = np.mod(j, g.b.teeth).astype(int)
 
-    for f in faults:
-        tooth = ja if f.gear == "a" else jb
-        hit = tooth == f.tooth  # (n, P)
-        if not hit.any():
-            continue
-        if isinstance(f, Crack):
-            q = f.depth_at(zk, b)
-            for qv in np.unique(q):
-                if qv <= 0:
+    if faults:
+        hits = [(ja if f.gear == "a" else jb) == f.tooth for f in faults]
+        rows, cols = np.nonzero(np.logical_or.reduce(hits))
+        if rows.size:
+            u, inside = positions(xi[rows], age[cols])  # (H, K)
+            ks_ = np.where(inside, np.interp(u, ugrid, kgrid) * dz, 0.0)
+            for f, hit in zip(faults, hits, strict=True):
+                h = hit[rows, cols][:, None] & inside
+                if not h.any():
                     continue
-                kc = 1.0 / pair_compliance_curve(g, ugrid, f, float(qv))
-                ks = q == qv
-                sub = np.interp(u[:, :, ks], ugrid, kc) * dz
-                cur = kslice[:, :, ks]
-                mask = hit[:, :, None] & inside[:, :, ks]
-                kslice[:, :, ks] = np.where(mask, sub, cur)
-        elif isinstance(f, Spall):
-            ra, rbb = g.contact_radii(u)
-            rr = ra if f.gear == "a" else rbb
-            cov = f.covers(rr, zk[None, None, :], b) & hit[:, :, None] & inside
-            kslice = np.where(cov, 0.0, kslice)
-    pair_k = kslice.sum(axis=2)
-    mid = n_slices // 2
-    cu = np.where(inside[:, :, mid], u[:, :, mid], np.nan)
-    if periodic:
-        reps = -(-n_total // n)
-        pair_k = np.tile(pair_k, (reps, 1))[:n_total]
-        cu = np.tile(cu, (reps, 1))[:n_total]
-        xi = np.arange(n_total) / n_per_cycle
-        j = np.floor(xi)[:, None] - age[None, :]
-        ja = np.mod(j, g.a.teeth).astype(int)
-        jb = np.mod(j, g.b.teeth).astype(int)
+                if isinstance(f, Crack):
+                    q = f.depth_at(zk, b)
+                    for qv in np.unique(q):
+                        if qv <= 0:
+                            continue
+                        kc = 1.0 / pair_compliance_curve(g, ugrid, f, float(qv))
+                        sel = h & (q == qv)[None, :]
+                        ks_[sel] = np.interp(u[sel], ugrid, kc) * dz
+                elif isinstance(f, Spall):
+                    ra, rbb = g.contact_radii(u)
+                    rr = ra if f.gear == "a" else rbb
+                    ks_[f.covers(rr, zk[None, :], b) & h] = 0.0
+            pair_k = pair_k.copy()
+            pair_k[rows, cols] = ks_.sum(axis=1)
     return StiffnessTable(
         geometry=g,
         mesh_cycle=xi,
