@@ -1,9 +1,11 @@
 """``geardyn analyze SIGNAL --config CONFIG.toml --speed LINK=RPM --out report/``.
 
 Reads a signal (WAV/CSV/NumPy/NetCDF), resamples it to the angle of the reference shaft (from a
-constant speed or tacho/encoder pulses), and writes: an annotated order spectrum, a time
-spectrogram, the TSA of the reference shaft, its cepstrum, an indicator table and the marker
-table (figures as PNG, tables as CSV, the order spectrum as NetCDF).
+constant speed or tacho/encoder pulses), and writes: an annotated order spectrum, a spectrogram,
+the TSA of the reference shaft, its cepstrum, an indicator table and the marker table (figures
+as PNG, tables as CSV, the order spectrum as NetCDF). With ``--ias-ppr R`` the SIGNAL file holds
+encoder edge times [s] of the reference shaft instead, and the analysed signal is its IAS by
+the elapsed-time method (seed 002 eq 1), optionally latched on a ``--clock`` counter.
 """
 
 from __future__ import annotations
@@ -28,6 +30,15 @@ def _choose_spr(max_mesh_order: float, fs: float, f_ref_max: float) -> int:
     return int(2 ** math.ceil(math.log2(min(want, cap))))
 
 
+def _reference(speeds: dict[str, float], reference: str | None, cfg) -> str:
+    if speeds:
+        return next(iter(speeds))
+    ref = reference or (next(iter(cfg.input_speeds_rpm)) if cfg.input_speeds_rpm else None)
+    if ref is None:
+        raise InputError("--reference: name the link that carries the tacho/encoder")
+    return ref
+
+
 @app.command("analyze")
 @friendly_errors
 def analyze(
@@ -41,7 +52,15 @@ def analyze(
     ),
     pulses_per_rev: int = typer.Option(1, "--ppr", help="pulses per revolution of --tacho"),
     reference: str | None = typer.Option(
-        None, "--reference", "-r", help="reference link of --tacho (default: first input)"
+        None, "--reference", "-r", help="reference link of --tacho/--ias-ppr (default: first "
+        "input of the config)"
+    ),
+    ias_ppr: int | None = typer.Option(
+        None, "--ias-ppr", help="SIGNAL is encoder edge times [s] with this many pulses/rev: "
+        "analyse the IAS (elapsed-time method, seed 002 eq 1)"
+    ),
+    clock: float | None = typer.Option(
+        None, "--clock", help="counter clock [Hz] latching the encoder edges (--ias-ppr)"
     ),
     fs: float | None = typer.Option(None, "--fs", help="sample rate [Hz] if not in the file"),
     channel: str | None = typer.Option(None, "--channel", help="channel name or index"),
@@ -49,7 +68,9 @@ def analyze(
     out: Path = typer.Option(Path("report"), "--out", "-o", help="output directory"),
 ) -> None:
     """Order spectrum (annotated), spectrogram, TSA, cepstrum and indicators of a signal."""
+    from geardyn.sensors import elapsed_time_ias
     from geardyn.signal import (
+        angular_spectrogram,
         gear_indicators,
         order_spectrum,
         power_cepstrum,
@@ -62,92 +83,112 @@ def analyze(
     from geardyn.signal.plots import plot_cepstrum, plot_map, plot_spectrum, plot_tsa
     from geardyn.signal_io import read_pulse_times, read_signal
 
-    rec = read_signal(signal, fs, channel)
     cfg = load_config(config)
     kin = analyze_kinematics(cfg)
     speeds = parse_assignments(speed, "--speed")
     if len(speeds) > 1:
         raise InputError("--speed: give the speed of one reference link only")
-    pulses = read_pulse_times(tacho) if tacho is not None else None
-    if pulses is None and not speeds and rec.pulse_times is not None:
-        pulses = rec.pulse_times
-    if pulses is None and not speeds:
-        raise InputError("--speed or --tacho: the reference shaft speed is needed")
-    if speeds:
-        ref, rpm = next(iter(speeds.items()))
-        if rpm <= 0:
-            raise InputError(f"--speed: {ref} speed must be > 0 rpm, got {rpm:g}")
-    else:
-        ref = reference or (next(iter(cfg.input_speeds_rpm)) if cfg.input_speeds_rpm else None)
-        if ref is None:
-            raise InputError("--reference: name the link that carries the tacho")
-        ppr = int(pulses_per_rev)
-        if ppr < 1:
-            raise InputError(f"--ppr: pulses per revolution must be >= 1, got {ppr}")
-        rpm = 60.0 * (pulses.size - 1) / ppr / (pulses[-1] - pulses[0])
-    freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
-    f_ref = rpm / 60.0
-    max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
-    if pulses is None:
-        t = np.arange(rec.x.size) / rec.fs
-        angle = 2 * np.pi * f_ref * t
-        f_ref_max = f_ref
-    else:
-        angle = None
-        f_ref_max = float(np.max(1.0 / np.diff(pulses))) / pulses_per_rev
-    spr = samples_per_rev or _choose_spr(max_mesh, rec.fs, f_ref_max)
-    if angle is not None:
-        sig = resample_to_angle(rec.x, rec.fs, angle, samples_per_rev=spr)
-    else:
-        sig = resample_to_angle(
-            rec.x, rec.fs, pulse_times=pulses, pulses_per_rev=pulses_per_rev,
-            samples_per_rev=spr,
+    for link, v in speeds.items():
+        if v <= 0:
+            raise InputError(f"--speed: {link} speed must be > 0 rpm, got {v:g}")
+
+    if ias_ppr is not None:  # ---- IAS of the reference shaft from encoder edge times
+        if ias_ppr < 1:
+            raise InputError(f"--ias-ppr: pulses per revolution must be >= 1, got {ias_ppr}")
+        edges = read_pulse_times(signal)
+        ref = _reference(speeds, reference, cfg)
+        meas = elapsed_time_ias(edges, ias_ppr, clock)
+        rpm = 60.0 * float(np.mean(meas.ias)) / (2 * np.pi)
+        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
+        spr = int(ias_ppr)
+        x_ang = meas.ias
+        raw = meas.ias
+        max_valid = spr / 2.0
+        revolutions = x_ang.size / spr
+        start = 0
+        spectrogram = angular_spectrogram(
+            x_ang, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 8)),
+            speed=60.0 * x_ang / (2 * np.pi),
         )
-    if max_mesh > sig.max_valid_order:
+        label = f"IAS of '{ref}' ({ias_ppr} pulses/rev"
+        label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
+        f_ref_max = float(np.max(meas.ias)) / (2 * np.pi)
+    else:  # ---- time signal resampled to the reference angle
+        rec = read_signal(signal, fs, channel)
+        pulses = read_pulse_times(tacho) if tacho is not None else None
+        if pulses is None and not speeds and rec.pulse_times is not None:
+            pulses = rec.pulse_times
+        if pulses is None and not speeds:
+            raise InputError("--speed or --tacho: the reference shaft speed is needed")
+        ref = _reference(speeds, reference, cfg)
+        if pulses is None:
+            rpm = speeds[ref]
+        else:
+            if pulses_per_rev < 1:
+                raise InputError(f"--ppr: pulses per revolution must be >= 1, got {pulses_per_rev}")
+            rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
+        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
+        max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
+        if pulses is None:
+            angle = 2 * np.pi * rpm / 60.0 * np.arange(rec.x.size) / rec.fs
+            f_ref_max = rpm / 60.0
+        else:
+            angle = None
+            f_ref_max = float(np.max(1.0 / np.diff(pulses))) / pulses_per_rev
+        spr = samples_per_rev or _choose_spr(max_mesh, rec.fs, f_ref_max)
+        if angle is not None:
+            sig = resample_to_angle(rec.x, rec.fs, angle, samples_per_rev=spr)
+        else:
+            sig = resample_to_angle(rec.x, rec.fs, pulse_times=pulses,
+                                    pulses_per_rev=pulses_per_rev, samples_per_rev=spr)
+        x_ang, raw, max_valid, revolutions = sig.x, rec.x, sig.max_valid_order, sig.revolutions
+        start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
+        nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
+        spectrogram = stft(rec.x, rec.fs, nperseg=nper)
+        label = f"{signal.name} ({rec.x.size} samples at {rec.fs:g} Hz)"
+
+    max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
+    if max_mesh > max_valid:
         console.print(
             f"[yellow]warning:[/] mesh order {max_mesh:.4g} is beyond the valid order range "
-            f"(≤ {sig.max_valid_order:.4g}); increase --samples-per-rev"
+            f"(≤ {max_valid:.4g}); increase --samples-per-rev (or the encoder resolution)"
         )
     out.mkdir(parents=True, exist_ok=True)
-    spec = order_spectrum(sig.x, spr)
+    spec = order_spectrum(x_ang, spr)
     markers = spectral_markers(freqs)
-    xmax = min(sig.max_valid_order, spr / 2, 3.3 * max_mesh)
+    xmax = min(max_valid, spr / 2, 3.3 * max_mesh)
     figs = {
         "order_spectrum.png": plot_spectrum(
-            spec, markers, xmax, f"Order spectrum, orders of '{ref}' at {rpm:.6g} rpm"
+            spec, markers, xmax, f"Order spectrum of {label}, orders of '{ref}' at {rpm:.6g} rpm"
         )
     }
-    nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
-    figs["spectrogram.png"] = plot_map(
-        stft(rec.x, rec.fs, nperseg=nper), ymax=min(rec.fs / 2, 3.3 * max_mesh * f_ref_max),
-        title="STFT (time)",
-    )
-    start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
-    rows = [{"signal": "raw", **signal_indicators(rec.x)}]
-    if sig.x.size - start >= spr:
-        avg = tsa(sig.x[start:], spr)
-        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(sig.x.size - start) // spr} revs)")
+    ymax = min(3.3 * max_mesh, spr / 2) if "order" in spectrogram.dims else None
+    if ymax is None:
+        ymax = min(rec.fs / 2, 3.3 * max_mesh * f_ref_max)
+    figs["spectrogram.png"] = plot_map(spectrogram, ymax=ymax, title="Spectrogram")
+    rows = [{"signal": "raw", **signal_indicators(raw)}]
+    if x_ang.size - start >= spr:
+        avg = tsa(x_ang[start:], spr)
+        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)")
         rows.append({"signal": f"TSA {ref}", **signal_indicators(avg)})
         for _, w in freqs.wheels[freqs.wheels["link"] == ref].iterrows():
             z = int(w["teeth"])
             if z + 1 < spr // 2:
                 rows.append({"signal": f"TSA {ref}, gear {w['wheel']}", **gear_indicators(avg, z)})
-    cep = power_cepstrum(sig.x, spr)
-    figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, sig.revolutions / 2),
+    cep = power_cepstrum(x_ang - x_ang.mean(), spr)
+    figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, revolutions / 2),
                                          title="Power cepstrum (quefrency in revolutions)")
     import matplotlib.pyplot as plt
 
     for name, fig in figs.items():
         fig.savefig(out / name, dpi=110)
         plt.close(fig)
-    ind = pd.DataFrame(rows)
-    ind.to_csv(out / "indicators.csv", index=False)
+    pd.DataFrame(rows).to_csv(out / "indicators.csv", index=False)
     markers.to_csv(out / "markers.csv", index=False)
     spec.to_netcdf(out / "order_spectrum.nc", engine="scipy")
     console.print(
-        f"[bold]{signal.name}[/]: {rec.x.size} samples at {rec.fs:g} Hz; reference '{ref}' "
-        f"{rpm:.6g} rpm; {sig.revolutions:.1f} revs at {spr} samples/rev "
-        f"(orders ≤ {sig.max_valid_order:.4g} valid)"
+        f"[bold]{label}[/]: reference '{ref}' {rpm:.6g} rpm; {revolutions:.1f} revs at {spr} "
+        f"samples/rev (orders ≤ {max_valid:.4g} valid)"
     )
     top = spec.where(spec["order"] > 0.5, 0).to_series().nlargest(5)
     console.print("largest orders: " + ", ".join(f"{o:.4g} ({a:.3g})" for o, a in top.items()))

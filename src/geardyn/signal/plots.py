@@ -52,12 +52,13 @@ def plot_map(m: xr.DataArray, ymax: float | None = None, title: str = "") -> Any
     """Spectrogram / order map (dims ``(frequency|order, time|angle)``) in dB."""
     fig, ax = _fig()
     ydim, xdim = m.dims
-    xs = m["speed"].values if "speed" in m.coords else m[xdim].values
+    use_speed = "speed" in m.coords and np.all(np.diff(m["speed"].values) > 0)
+    xs = m["speed"].values if use_speed else m[xdim].values
     db = 20 * np.log10(np.maximum(m.values, m.values.max() * 1e-5 + 1e-300))
     ax.pcolormesh(xs, m[ydim].values, db, shading="auto", cmap="viridis")
     ax.set_ylim(0, ymax if ymax is not None else m[ydim].values[-1])
     unit = "s" if xdim == "time" else "rev"
-    ax.set_xlabel("speed [rpm]" if "speed" in m.coords else f"{xdim} [{unit}]")
+    ax.set_xlabel("speed [rpm]" if use_speed else f"{xdim} [{unit}]")
     ax.set_ylabel("order" if ydim == "order" else "frequency [Hz]")
     ax.set_title(title)
     return fig
