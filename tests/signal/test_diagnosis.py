@@ -175,3 +175,18 @@ def test_tsa_bad_input():
         tsa(np.ones(100), 0)
     with pytest.raises(InputError, match="x: needs at least one revolution"):
         tsa(np.ones(10), 64)
+
+
+def test_short_or_malformed_inputs_raise_named_errors():
+    from geardyn.signal import envelope, resample_to_angle, stft
+
+    with pytest.raises(InputError, match="x: the band-pass filter needs more than"):
+        envelope(np.ones(20), 100.0, band=(10, 20))
+    with pytest.raises(InputError, match="x: signal must be 1-D"):
+        tsa(np.ones((3, 4)), 4)
+    with pytest.raises(InputError, match="nperseg"):
+        stft(np.ones(100), 10.0, nperseg=200)
+    with pytest.raises(InputError, match="angle: the reference angle must increase"):
+        resample_to_angle(np.ones(100), 100.0, np.linspace(10, 0, 100))
+    with pytest.raises(InputError, match="samples_per_carrier_rev"):
+        planetary_tsa(np.ones(1000), 100, 65, 24, 3)

@@ -27,6 +27,9 @@ def envelope(
                 f"band: need 0 < f_lo < f_hi < fs/2 = {f / 2:g} Hz, got ({lo:g}, {hi:g})"
             )
         sos = sps.butter(order, (lo, hi), btype="bandpass", fs=f, output="sos")
+        pad = 3 * (2 * len(sos) + 1)
+        if a.size <= pad:
+            raise InputError(f"x: the band-pass filter needs more than {pad} samples, got {a.size}")
         a = sps.sosfiltfilt(sos, a)
     return np.abs(sps.hilbert(a))
 

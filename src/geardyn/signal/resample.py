@@ -167,6 +167,9 @@ def lowpass(x: np.ndarray, fs: float, cutoff: float, order: int = 8) -> np.ndarr
     if c >= 0.5 * f:
         return a.copy()
     sos = sps.butter(order, c, btype="low", fs=f, output="sos")
+    pad = 3 * (2 * len(sos) + 1)
+    if a.size <= pad:
+        raise InputError(f"x: the zero-phase filter needs more than {pad} samples, got {a.size}")
     return sps.sosfiltfilt(sos, a)
 
 
