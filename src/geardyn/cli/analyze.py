@@ -80,7 +80,13 @@ def analyze(
         stft,
         tsa,
     )
-    from geardyn.signal.plots import plot_cepstrum, plot_map, plot_spectrum, plot_tsa
+    from geardyn.signal.plots import (
+        plot_cepstrum,
+        plot_map,
+        plot_spectrum,
+        plot_tsa,
+        plot_waterfall,
+    )
     from geardyn.signal_io import read_pulse_times, read_signal
 
     cfg = load_config(config)
@@ -110,6 +116,7 @@ def analyze(
             x_ang, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 8)),
             speed=60.0 * x_ang / (2 * np.pi),
         )
+        order_map = None
         label = f"IAS of '{ref}' ({ias_ppr} pulses/rev"
         label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
         f_ref_max = float(np.max(meas.ias)) / (2 * np.pi)
@@ -142,6 +149,14 @@ def analyze(
             sig = resample_to_angle(rec.x, rec.fs, pulse_times=pulses,
                                     pulses_per_rev=pulses_per_rev, samples_per_rev=spr)
         x_ang, raw, max_valid, revolutions = sig.x, rec.x, sig.max_valid_order, sig.revolutions
+        order_map = None
+        if pulses is not None and revolutions >= 16:
+            rpm_k = 60.0 / (spr * np.gradient(sig.time))
+            if rpm_k.max() > 1.05 * rpm_k.min():  # run-up / run-down: order–speed map
+                order_map = angular_spectrogram(
+                    sig.x, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 16)),
+                    speed=rpm_k,
+                )
         start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
         nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
         spectrogram = stft(rec.x, rec.fs, nperseg=nper)
@@ -166,6 +181,10 @@ def analyze(
     if ymax is None:
         ymax = min(rec.fs / 2, 3.3 * max_mesh * f_ref_max)
     figs["spectrogram.png"] = plot_map(spectrogram, ymax=ymax, title="Spectrogram")
+    if order_map is not None:
+        omax = min(xmax, float(order_map["order"].values[-1]))
+        figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map")
+        figs["waterfall.png"] = plot_waterfall(order_map, ymax=omax, title="Waterfall")
     rows = [{"signal": "raw", **signal_indicators(raw)}]
     if x_ang.size - start >= spr:
         avg = tsa(x_ang[start:], spr)

@@ -85,3 +85,24 @@ def plot_cepstrum(cep: xr.DataArray, qmax: float | None = None, title: str = "")
     ax.set_xlabel("quefrency")
     ax.set_title(title)
     return fig
+
+
+def plot_waterfall(m: xr.DataArray, n_lines: int = 20, ymax: float | None = None,
+                   title: str = "") -> Any:
+    """Waterfall: up to ``n_lines`` spectra of a map (dims ``(order|frequency, angle|time)``),
+    each offset vertically by its speed [rpm] (if a ``speed`` coordinate exists) or position."""
+    fig, ax = _fig((8, 6))
+    ydim, xdim = m.dims
+    idx = np.unique(np.linspace(0, m.sizes[xdim] - 1, min(n_lines, m.sizes[xdim])).astype(int))
+    pos = m["speed"].values if "speed" in m.coords else m[xdim].values
+    span = float(np.ptp(pos[idx])) or 1.0
+    scale = 0.8 * span / max(len(idx), 1) / (float(m.max()) or 1.0)
+    x = m[ydim].values
+    for i in idx[::-1]:
+        ax.fill_between(x, pos[i], pos[i] + scale * m.values[:, i], color="white", lw=0)
+        ax.plot(x, pos[i] + scale * m.values[:, i], lw=0.6, color="k")
+    ax.set_xlim(0, ymax if ymax is not None else x[-1])
+    ax.set_xlabel("order" if ydim == "order" else "frequency [Hz]")
+    ax.set_ylabel("speed [rpm]" if "speed" in m.coords else xdim)
+    ax.set_title(title)
+    return fig
