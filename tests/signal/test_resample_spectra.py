@@ -113,6 +113,11 @@ def test_distant_shaft_via_kinematic_ratio():
     np.testing.assert_allclose(distant_shaft(w_motor, r), w_motor * 16 / 81, rtol=1e-12)
     with pytest.raises(InputError, match="ratio"):
         distant_shaft(w_motor, 0.0)
+    from geardyn.signal import link_ratio
+
+    assert link_ratio(kin, "motor", "carrier") == pytest.approx(16 / 81, rel=1e-12)
+    with pytest.raises(InputError, match="target"):
+        link_ratio(kin, "motor", "nolink")
 
 
 def test_bad_sample_rate_is_named():

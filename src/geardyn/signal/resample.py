@@ -131,6 +131,20 @@ def distant_shaft(
     return r.real * ref + offset
 
 
+def link_ratio(analysis, reference: str, target: str) -> float:
+    """Speed ratio ``ω_target/ω_reference`` of a 1-DOF mechanism from its kinematics
+    (seed 000 eq 5 via ``KinematicAnalysis.velocity_ratios``); feed it to
+    :func:`distant_shaft` to get the IAS or angle of a distant shaft from a measured one."""
+    try:
+        idx = analysis.graph.index(target)
+    except (KeyError, ValueError):
+        raise InputError(f"target: unknown link {target!r}") from None
+    r = complex(analysis.velocity_ratios([reference])[idx, 0])
+    if abs(r.imag) > 1e-12 * max(1.0, abs(r)):
+        raise InputError(f"target: {target!r} does not turn about the axis of {reference!r}")
+    return float(r.real)
+
+
 def _time_of_angle(time: np.ndarray, angle: np.ndarray, targets: np.ndarray) -> np.ndarray:
     return np.interp(targets, angle, time)
 
@@ -265,6 +279,7 @@ __all__ = [
     "angle_from_pulses",
     "angle_from_speed",
     "distant_shaft",
+    "link_ratio",
     "lowpass",
     "resample_ias_to_angle",
     "resample_to_angle",
