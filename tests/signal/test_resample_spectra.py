@@ -72,6 +72,20 @@ def test_resampling_from_tacho_pulses():
         assert level == pytest.approx(amp, rel=0.05)
 
 
+def test_resampling_from_encoder_edges():
+    t, theta, x = runup()
+    a = (F1 - F0) / T
+    ppr = 64
+    k = np.arange(ppr, 119 * ppr + 1) / ppr  # revolutions at each encoder edge
+    tp = (-F0 + np.sqrt(F0**2 + 2 * a * k)) / a
+    sig = resample_to_angle(x, FS, pulse_times=tp, pulses_per_rev=ppr, samples_per_rev=512)
+    spec = order_spectrum(sig.x, sig.samples_per_rev)
+    for o, amp in ORDERS.items():
+        where, level = peak_near(spec, "order", o, 1.0)
+        assert abs(where - o) <= 1.0 / sig.revolutions
+        assert level == pytest.approx(amp, rel=0.05)
+
+
 def test_insufficient_samples_per_rev_for_speed_range_is_refused():
     t, theta, x = runup()
     with pytest.raises(InputError, match="samples_per_rev >= "):
