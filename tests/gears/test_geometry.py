@@ -169,3 +169,19 @@ def test_base_pitch_mismatch():
     mesh_geometry(
         GearBlank(20), GearBlank(30), 0.002, A20, 0.02, module_b=0.0021, pressure_angle_b=ab
     )
+
+
+def test_tip_round_shortens_path():
+    from geardyn.gears.geometry import active_tip_radius
+
+    # α_a = 30°: drop = ρ cos 30°/tan 60° = ρ/2 exactly
+    assert active_tip_radius(0.05, 0.05 * math.cos(math.radians(30)), 0.5e-3) == pytest.approx(
+        0.05 - 0.25e-3, rel=1e-12
+    )
+    assert active_tip_radius(0.6, 0.5, 0.0) == 0.6
+    sharp = mesh_geometry(GearBlank(42), GearBlank(55), 0.003, A20, 0.025)
+    rounded = mesh_geometry(
+        GearBlank(42, tip_round=0.5e-3), GearBlank(55, tip_round=0.5e-3), 0.003, A20, 0.025
+    )
+    assert rounded.contact_ratio < sharp.contact_ratio
+    assert rounded.tip_radius == sharp.tip_radius  # nominal tips unchanged

@@ -87,6 +87,21 @@ class GearBlank:
     material: Material = field(default_factory=Material)
 
 
+def active_tip_radius(tip: float, base: float, tip_round: float, internal: bool = False) -> float:
+    """Radius where a tip round of radius ρ meets the involute (m).
+
+    The round is tangent to the tip circle and to the flank, which meet at the interior angle
+    90° + α_a (α_a the pressure angle at the tip); the tangency point lies ρ/tan(45° + α_a/2)
+    from the corner along the flank, i.e. ρ·cos α_a/tan(45° + α_a/2) radially below the tip of
+    an external gear (above it for an internal gear). Straight-corner approximation.
+    """
+    if tip_round <= 0.0 or tip <= base:
+        return tip
+    aa = math.acos(base / tip)
+    drop = tip_round * math.cos(aa) / math.tan(math.pi / 4 + aa / 2)
+    return tip + drop if internal else tip - drop
+
+
 def _err(label: str, msg: str) -> ConfigError:
     return ConfigError(f"gear pair '{label}': {msg}")
 
@@ -322,18 +337,23 @@ def mesh_geometry(
             )
         form.append(max(rbb, math.hypot(rbb, max(rho, 0.0))))
     tw = math.tan(awt)
+    if b.internal and check and ra[1] <= rb[1]:
+        raise _err(
+            label,
+            f"internal gear tip radius {ra[1] * 1e3:.3f} mm is inside its base circle "
+            f"{rb[1] * 1e3:.3f} mm: the ring tips would not be involute (tip/involute "
+            "interference)",
+        )
+    # active tips: a tip round of radius ρ ends the involute where the round meets it
+    act = (
+        active_tip_radius(ra[0], rb[0], a.tip_round, internal=False),
+        active_tip_radius(ra[1], rb[1], b.tip_round, internal=b.internal),
+    )
     if b.internal:
-        if check and ra[1] <= rb[1]:
-            raise _err(
-                label,
-                f"internal gear tip radius {ra[1] * 1e3:.3f} mm is inside its base circle "
-                f"{rb[1] * 1e3:.3f} mm: the ring tips would not be involute (tip/involute "
-                "interference)",
-            )
-        u_start = math.sqrt(max(ra[1] ** 2 - rb[1] ** 2, 0.0)) - rb[1] * tw
+        u_start = math.sqrt(max(act[1] ** 2 - rb[1] ** 2, 0.0)) - rb[1] * tw
     else:
-        u_start = -(math.sqrt(max(ra[1] ** 2 - rb[1] ** 2, 0.0)) - rb[1] * tw)
-    u_end = math.sqrt(max(ra[0] ** 2 - rb[0] ** 2, 0.0)) - rb[0] * tw
+        u_start = -(math.sqrt(max(act[1] ** 2 - rb[1] ** 2, 0.0)) - rb[1] * tw)
+    u_end = math.sqrt(max(act[0] ** 2 - rb[0] ** 2, 0.0)) - rb[0] * tw
     g = MeshGeometry(
         label=label,
         a=a,
