@@ -39,6 +39,7 @@ def _loop(g, n_per_cycle: int, n_cycles: int, n_slices: int) -> np.ndarray:
     dz = g.face_width / n_slices
     lag = [(k + 0.5) * dz * math.tan(abs(g.base_helix_angle)) for k in range(n_slices)]
     n_pairs = int(math.ceil((g.path_length + lag[-1]) / g.base_pitch)) + 1
+    half = 0.5 * dz * math.tan(abs(g.base_helix_angle))
     out = np.zeros(n_per_cycle * n_cycles)
     for i in range(out.size):
         xi = i / n_per_cycle
@@ -46,9 +47,10 @@ def _loop(g, n_per_cycle: int, n_cycles: int, n_slices: int) -> np.ndarray:
             j = math.floor(xi) - age
             for k in range(n_slices):
                 u = g.u_start + (xi - j) * g.base_pitch - lag[k]
-                if g.u_start <= u <= g.u_end:
-                    c = pair_compliance_curve(g, np.array([u]))[0]
-                    out[i] += dz / c
+                lo, hi = max(u - half, g.u_start), min(u + half, g.u_end)
+                if hi > lo:
+                    c = pair_compliance_curve(g, np.array([0.5 * (lo + hi)]))[0]
+                    out[i] += dz * (hi - lo) / (2 * half) / c
     return out
 
 

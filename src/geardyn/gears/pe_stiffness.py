@@ -21,7 +21,8 @@ involute of the ring with their root at the ring root circle. All compliances sc
 
 Helical gears (seed 002 §2.2, Fig 1): K thin slices along the face, each a spur slice whose
 contact position on the transverse line of action lags by z·tan β_b (stiffness along the
-transverse line of action).
+transverse line of action); a slice only partly on the path counts with its in-contact
+fraction, so that the table has no slice-sized steps.
 """
 
 from __future__ import annotations
@@ -281,14 +282,28 @@ def mesh_stiffness(
     kgrid = 1.0 / pair_compliance_curve(g, ugrid)  # per unit width
     age = np.arange(n_pairs)
 
-    def positions(x: np.ndarray, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        # slice k of the pair that entered at mesh count j = floor(ξ) − age:
-        # u = u_start + (ξ − j)·p_bt − lag_k
-        u = (g.u_start + (x - (np.floor(x) - a)) * pbt)[..., None] - lag
-        return u, (u >= g.u_start - 1e-12) & (u <= g.u_end + 1e-12)
+    half = 0.5 * dz * math.tan(abs(g.base_helix_angle))  # contact-line spread within a slice
 
-    u1, in1 = positions(xi1[:, None], age[None, :])  # (n, P, K)
-    pair1 = np.where(in1, np.interp(u1, ugrid, kgrid) * dz, 0.0).sum(axis=2)
+    def positions(x: np.ndarray, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(u, w): LOA position and in-contact fraction of every slice.
+
+        Slice k of the pair that entered at mesh count j = floor(ξ) − age sits at
+        u = u_start + (ξ − j)·p_bt − lag_k; on a helical slice the contact spreads over
+        u ± half, so w is the fraction of that spread on the path and u the centre of the
+        part in contact (smooth entry/exit instead of whole-slice steps).
+        """
+        u = (g.u_start + (x - (np.floor(x) - a)) * pbt)[..., None] - lag
+        if half == 0.0:
+            w = ((u >= g.u_start - 1e-12) & (u <= g.u_end + 1e-12)).astype(float)
+            return u, w
+        lo = np.maximum(u - half, g.u_start)
+        hi = np.minimum(u + half, g.u_end)
+        w = np.clip((hi - lo) / (2.0 * half), 0.0, 1.0)
+        return np.where(w > 0, 0.5 * (lo + hi), u), w
+
+    u1, w1 = positions(xi1[:, None], age[None, :])  # (n, P, K)
+    in1 = w1 > 0
+    pair1 = (np.interp(u1, ugrid, kgrid) * dz * w1).sum(axis=2)
     mid = n_slices // 2
     cu1 = np.where(in1[:, :, mid], u1[:, :, mid], np.nan)
     reps = -(-n_total // n)
@@ -303,8 +318,9 @@ def mesh_stiffness(
         hits = [(ja if f.gear == "a" else jb) == f.tooth for f in faults]
         rows, cols = np.nonzero(np.logical_or.reduce(hits))
         if rows.size:
-            u, inside = positions(xi[rows], age[cols])  # (H, K)
-            ks_ = np.where(inside, np.interp(u, ugrid, kgrid) * dz, 0.0)
+            u, wt = positions(xi[rows], age[cols])  # (H, K)
+            inside = wt > 0
+            ks_ = np.interp(u, ugrid, kgrid) * dz * wt
             for f, hit in zip(faults, hits, strict=True):
                 h = hit[rows, cols][:, None] & inside
                 if not h.any():
@@ -316,7 +332,7 @@ def mesh_stiffness(
                             continue
                         kc = 1.0 / pair_compliance_curve(g, ugrid, f, float(qv))
                         sel = h & (q == qv)[None, :]
-                        ks_[sel] = np.interp(u[sel], ugrid, kc) * dz
+                        ks_[sel] = np.interp(u[sel], ugrid, kc) * dz * wt[sel]
                 elif isinstance(f, Spall):
                     ra, rbb = g.contact_radii(u)
                     rr = ra if f.gear == "a" else rbb

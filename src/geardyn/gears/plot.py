@@ -17,7 +17,8 @@ def plot_stiffness(
     faulty: StiffnessTable | None = None,
     title: str | None = None,
 ) -> Path:
-    """Write a PNG: top, total stiffness (healthy and faulty); bottom, pair contributions."""
+    """Write a PNG: top, total stiffness (healthy and faulty); bottom, each tooth pair's
+    contribution (of the faulty table when given)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -32,10 +33,16 @@ def plot_stiffness(
     ax1.legend(loc="best")
     ax1.grid(True, alpha=0.3)
     src = faulty if faulty is not None else healthy
-    for p in range(src.pair_stiffness.shape[1]):
-        kp = src.pair_stiffness[:, p]
-        if np.any(kp > 0):
-            ax2.plot(src.mesh_cycle, kp / 1e8, lw=0.8, label=f"pair age {p}")
+    # one curve per tooth pair (identified by the mesh count j at which it entered contact)
+    j = np.floor(src.mesh_cycle)[:, None] - np.arange(src.pair_stiffness.shape[1])[None, :]
+    for jj in np.unique(j):
+        sel = (j == jj) & (src.pair_stiffness > 0)
+        rows = sel.any(axis=1)
+        if rows.sum() < 2:
+            continue
+        kp = np.where(sel, src.pair_stiffness, 0.0).sum(axis=1)
+        idx = np.nonzero(rows)[0]
+        ax2.plot(src.mesh_cycle[idx], kp[idx] / 1e8, lw=0.9)
     ax2.set_xlabel("mesh cycles (gear a rotation × z_a / 2π)")
     ax2.set_ylabel("pair k [1e8 N/m]")
     ax2.grid(True, alpha=0.3)
