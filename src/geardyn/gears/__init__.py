@@ -11,6 +11,7 @@ Physics modules, independent of configs and files (SI units throughout):
   profile corrections (seed 002 §2.5).
 - :mod:`.faults` — root crack (seed 002 eq 14) and spall (eq 13).
 - :mod:`.torsional` — seed 004 ch. 5 combined torsional mesh stiffness.
+- :mod:`.phasing` — planetary mesh phases (seed 004 Tables 4-1, 4-2).
 - :mod:`.simple` — square wave (seed 003 eqs 1.11-1.13) and ISO 6336-1 c', c_γα.
 """
 
@@ -24,6 +25,7 @@ from geardyn.gears.pe_stiffness import (
     pair_compliance_curve,
     tooth_compliance,
 )
+from geardyn.gears.phasing import planet_mesh_phases, sun_ring_phase
 from geardyn.gears.simple import (
     iso_mesh_stiffness,
     iso_single_pair_stiffness,
@@ -54,10 +56,12 @@ __all__ = [
     "mesh_geometry",
     "mesh_stiffness",
     "pair_compliance_curve",
+    "planet_mesh_phases",
     "seed004_params",
     "square_wave",
     "square_wave_mean",
     "static_transmission_error",
+    "sun_ring_phase",
     "tooth_compliance",
     "torsional_mesh_stiffness",
     "torsional_stiffness_curve",

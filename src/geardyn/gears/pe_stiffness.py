@@ -209,6 +209,22 @@ class StiffnessTable:
         return self.pair_stiffness.sum(axis=1)
 
     @property
+    def period_cycles(self) -> float:
+        """Mesh cycles covered by the table (its period when it spans a full period)."""
+        return self.mesh_cycle.size * (self.mesh_cycle[1] - self.mesh_cycle[0])
+
+    def at(self, mesh_cycle: np.ndarray | float) -> np.ndarray:
+        """Total stiffness (N/m) at mesh phases ξ, linear interpolation, periodic over the table.
+
+        Build the table over one mesh cycle (healthy) or the hunting period (faults) so that
+        the wrap-around is physical; ξ = r_b,a·φ_a/p_bt = z_a·φ_a/(2π).
+        """
+        return np.interp(
+            np.asarray(mesh_cycle, dtype=float), self.mesh_cycle, self.total,
+            period=self.period_cycles,
+        )
+
+    @property
     def torsional(self) -> np.ndarray:
         """Torsional stiffness referred to gear a: k·r_b,a² (N·m/rad)."""
         return self.total * self.geometry.base_radius[0] ** 2
