@@ -143,3 +143,18 @@ def test_cli_unknown_pair_is_one_message():
     assert res.exit_code == 2
     assert "no gear pair of that name" in res.output
     assert "Traceback" not in res.output
+
+
+@pytest.mark.parametrize(
+    "fault, fragment",
+    [
+        ({"spalls": [{"radius_m": 0.2, "radial_width_m": 0.001}]}, "outside the contact zone"),
+        ({"cracks": [{"depth_m": 0.02}]}, "cuts through"),
+        ({"cracks": [{"depth_m": 1e-3, "radius_m": 0.5}]}, "between the root and tip"),
+    ],
+)
+def test_faults_that_cannot_act_are_rejected(fault, fragment):
+    entry = {"pair": "low", "normal_module_m": 0.003, "face_width_m": 0.02, **fault}
+    with pytest.raises(ConfigError) as exc:
+        parse_config(_with(entry))
+    assert fragment in str(exc.value) and "gear_geometry[0]" in str(exc.value)

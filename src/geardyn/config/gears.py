@@ -21,6 +21,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, StrictInt
 
 from geardyn.errors import ConfigError
@@ -229,6 +230,40 @@ def _build(cfg_entry: GearGeometryConfig, mesh, label: str) -> PairModel:  # noq
                 s.axial_length_m,
             )
         )
+    # faults must be able to act: spall band within the contact zone, crack inside the tooth
+    u_ends = np.array([geom.u_start, geom.u_end])
+    r_contact = geom.contact_radii(u_ends)
+    for i, f in enumerate(faults):
+        k = 0 if f.gear == "a" else 1
+        lo, hi = sorted(float(x) for x in r_contact[k])
+        kind = "cracks" if isinstance(f, Crack) else "spalls"
+        idx = i if kind == "cracks" else i - len(cfg_entry.cracks)
+        if isinstance(f, Spall):
+            if f.radius + f.radial_width / 2 < lo or f.radius - f.radial_width / 2 > hi:
+                raise ConfigError(
+                    f"gear pair '{label}': spalls[{idx}].radius_m {f.radius * 1e3:.3f} mm "
+                    f"(± {f.radial_width * 5e2:.3f} mm) is outside the contact zone of that "
+                    f"wheel ({lo * 1e3:.3f} to {hi * 1e3:.3f} mm): it would never be in contact"
+                )
+            if f.axial_position is not None and not 0 <= f.axial_position <= geom.face_width:
+                raise ConfigError(
+                    f"gear pair '{label}': spalls[{idx}].axial_position_m must lie on the face "
+                    f"(0 to {geom.face_width} m)"
+                )
+        else:
+            rr = (geom.root_radius[k], geom.tip_radius[k])
+            if f.radius is not None and not min(rr) <= f.radius <= max(rr):
+                raise ConfigError(
+                    f"gear pair '{label}': cracks[{idx}].radius_m must lie between the root and "
+                    f"tip radii ({min(rr) * 1e3:.3f} to {max(rr) * 1e3:.3f} mm)"
+                )
+            from geardyn.errors import InputError
+            from geardyn.gears.pe_stiffness import tooth_compliance
+
+            try:
+                tooth_compliance(geom, k, np.array([0.5 * (lo + hi)]), f.depth, f)
+            except InputError as exc:
+                raise ConfigError(f"gear pair '{label}': cracks[{idx}]: {exc}") from None
     corr = Corrections(
         tuple(
             TipRelief(side(t.gear), t.amount_m, t.start_radius_m, t.shape)

@@ -163,6 +163,8 @@ def static_transmission_error(
     """Static TE and load sharing under torque ``torque_a`` (N·m on gear a), seed 002 eqs 9-13."""
     if not (math.isfinite(torque_a) and torque_a > 0):
         raise InputError(f"torque must be > 0 N·m (got {torque_a})")
+    if n_per_cycle < 1 or n_cycles <= 0 or (n_slices is not None and n_slices < 1):
+        raise InputError("n_per_cycle and n_slices must be ≥ 1 and n_cycles > 0")
     corr = corrections or Corrections()
     if n_slices is None:
         n_slices = 1 if (g.helix_angle == 0.0 and not spalls and not corr.lead_crowning) else 20

@@ -220,7 +220,9 @@ class StiffnessTable:
         the wrap-around is physical; ξ = r_b,a·φ_a/p_bt = z_a·φ_a/(2π).
         """
         return np.interp(
-            np.asarray(mesh_cycle, dtype=float), self.mesh_cycle, self.total,
+            np.asarray(mesh_cycle, dtype=float),
+            self.mesh_cycle,
+            self.total,
             period=self.period_cycles,
         )
 
@@ -283,6 +285,10 @@ def mesh_stiffness(
         raise InputError("n_cycles must be > 0")
     if n_slices is None:
         n_slices = 1 if (g.helix_angle == 0.0 and not faults) else 24
+    if n_slices < 1 or grid_points < 16:
+        raise InputError(
+            f"n_slices must be ≥ 1 and grid_points ≥ 16 (got {n_slices}, {grid_points})"
+        )
     n_total = int(round(cycles * n_per_cycle))
     # the healthy mesh is periodic over one mesh cycle: compute one cycle and tile it; faults
     # are then applied only to the (angle, pair) entries where the faulty tooth is in contact
