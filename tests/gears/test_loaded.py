@@ -106,3 +106,13 @@ def test_spall_eq13_acts_only_on_spalled_tooth(low):
 def test_bad_torque(low):
     with pytest.raises(InputError, match="torque"):
         static_transmission_error(low, -5.0)
+
+
+def test_profile_crowning_unloads_path_ends(low):
+    base = static_transmission_error(low, 200.0, n_per_cycle=32, extended=False)
+    cr = static_transmission_error(
+        low, 200.0, n_per_cycle=32, extended=False, corrections=Corrections(profile_crowning=10e-6)
+    )
+    # at ξ = 0 the entering pair sits at the path start, where the crowning is largest
+    assert cr.load_sharing[0, 1] < base.load_sharing[0, 1]
+    assert cr.ste.mean() > base.ste.mean()

@@ -27,6 +27,7 @@ def stiffness_cmd(
     netcdf: Path | None = typer.Option(None, "--netcdf", help="write the table (xarray)"),
 ) -> None:
     """Gear-pair geometry and potential-energy mesh stiffness (healthy and with faults)."""
+    from geardyn.gears.loaded import static_transmission_error
     from geardyn.gears.pe_stiffness import mesh_stiffness
     from geardyn.gears.plot import plot_stiffness
 
@@ -66,6 +67,13 @@ def stiffness_cmd(
             kf = faulty.total
             t.add_row("with faults: k min (N/m)", f"{kf.min():.4e}")
             t.add_row("max stiffness loss", f"{np.max(1 - kf / k):.2%}")
+        if pm.torque is not None:
+            ste = static_transmission_error(
+                g, pm.torque, n_per_cycle=min(samples, 64), corrections=pm.corrections
+            )
+            t.add_row(f"loaded ({pm.torque:g} N·m): STE mean (µm)", f"{ste.ste.mean() * 1e6:.3f}")
+            t.add_row("loaded: STE peak-to-peak (µm)", f"{np.ptp(ste.ste) * 1e6:.3f}")
+            t.add_row("loaded: mean W/STE (N/m)", f"{ste.secant_stiffness.mean():.4e}")
         console.print(t)
         if netcdf is not None:
             (faulty or healthy).to_xarray().to_netcdf(netcdf, engine="h5netcdf")

@@ -111,6 +111,9 @@ class GearGeometryConfig(_Model):
     spalls: list[SpallConfig] = Field(default_factory=list)
     tip_reliefs: list[TipReliefConfig] = Field(default_factory=list)
     lead_crowning_m: float = Field(0.0, ge=0, description="lead crowning at the face ends (m)")
+    profile_crowning_m: float = Field(
+        0.0, ge=0, description="profile crowning at the ends of the path of contact (m)"
+    )
     torque_nm: float | None = Field(
         None, gt=0, description="torque on the pinion (N·m) for loaded-contact analysis"
     )
@@ -270,6 +273,7 @@ def _build(cfg_entry: GearGeometryConfig, mesh, label: str) -> PairModel:  # noq
             for t in cfg_entry.tip_reliefs
         ),
         cfg_entry.lead_crowning_m,
+        cfg_entry.profile_crowning_m,
     )
     return PairModel(label, geom, tuple(faults), corr, cfg_entry.torque_nm, swapped)
 

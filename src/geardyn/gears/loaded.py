@@ -45,10 +45,13 @@ class TipRelief:
 
 @dataclass(frozen=True)
 class Corrections:
-    """Profile/lead corrections: tip reliefs and lead crowning amount (m) at the face ends."""
+    """Profile/lead corrections (m): tip reliefs; lead crowning at the face ends,
+    δ = C_β(2z/b − 1)²; profile crowning at the ends of the path of contact,
+    δ = C_α(2(u − u_m)/g_α)² with u_m the middle of the path (sum of both flanks)."""
 
     tip_reliefs: tuple[TipRelief, ...] = ()
     lead_crowning: float = 0.0
+    profile_crowning: float = 0.0
 
 
 @dataclass
@@ -143,6 +146,9 @@ def correction(g: MeshGeometry, corr: Corrections, u: np.ndarray, z: np.ndarray)
             span = tip - tr.start_radius
             s = np.clip((r - tr.start_radius) / span, 0.0, 1.0) if span > 0 else 0.0 * r
         out = out + tr.amount * (s if tr.shape == "linear" else s**2)
+    if corr.profile_crowning:
+        um = 0.5 * (g.u_start + g.u_end)
+        out = out + corr.profile_crowning * (2.0 * (u - um) / g.path_length) ** 2
     if corr.lead_crowning:
         zz = np.asarray(z, dtype=float)
         out = out + corr.lead_crowning * (2.0 * zz / g.face_width - 1.0) ** 2
