@@ -202,6 +202,7 @@ class StiffnessTable:
     tooth_b: np.ndarray
     contact: np.ndarray
     faults: tuple = field(default_factory=tuple)
+    n_per_cycle: int = 0
 
     @property
     def total(self) -> np.ndarray:
@@ -211,7 +212,7 @@ class StiffnessTable:
     @property
     def period_cycles(self) -> float:
         """Mesh cycles covered by the table (its period when it spans a full period)."""
-        return self.mesh_cycle.size * (self.mesh_cycle[1] - self.mesh_cycle[0])
+        return self.mesh_cycle.size / self.n_per_cycle
 
     def at(self, mesh_cycle: np.ndarray | float) -> np.ndarray:
         """Total stiffness (N/m) at mesh phases ξ, linear interpolation, periodic over the table.
@@ -370,6 +371,7 @@ def mesh_stiffness(
         tooth_b=jb,
         contact=cu,
         faults=faults,
+        n_per_cycle=n_per_cycle,
     )
 
 
