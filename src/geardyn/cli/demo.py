@@ -20,6 +20,8 @@ KINEMATIC_EXAMPLES = [
     "hammami_back_to_back.toml",
     "reclaimer_drive.toml",
 ]
+#: Gear-pair stiffness examples (issue 3): geometry and mesh stiffness summaries.
+STIFFNESS_EXAMPLES = ["seed002_two_stage.toml", "seed004_planetary.toml"]
 
 
 def examples_dir() -> Path:
@@ -45,3 +47,10 @@ def demo_cmd(
         freqs = characteristic_frequencies(analysis, dict(cfg.input_speeds_rpm))
         console.rule(f"[bold]{name}")
         render_kinematics(analysis, freqs)
+    from geardyn.cli.stiffness import stiffness_cmd
+
+    for name in STIFFNESS_EXAMPLES:
+        console.rule(f"[bold]{name}: gear geometry and mesh stiffness")
+        stiffness_cmd(
+            folder / name, pair=None, plot=None, cycles=2.0, hunting=False, samples=64, netcdf=None
+        )
