@@ -149,6 +149,19 @@ class BearingGeometry(_Model):
             raise ValueError("; ".join(problems))
         return self
 
+    def rolling_bearing(self, name: str, inner: str, outer: str) -> RollingBearing:
+        """The graph object for this geometry mounted between ``inner`` and ``outer``."""
+        return RollingBearing(
+            name=name,
+            inner=inner,
+            outer=outer,
+            n_elements=self.n_elements,
+            element_diameter=self.element_diameter_m,
+            pitch_diameter=self.pitch_diameter_m,
+            contact_angle=math.radians(self.contact_angle_deg),
+            kind=self.kind,
+        )
+
 
 class Bearing(BearingGeometry):
     """A rolling bearing on the turning pair between ``inner`` and ``outer``."""
@@ -536,18 +549,8 @@ class Mechanism(_Model):
                     where,
                 )
                 if st.planet_bearing is not None:
-                    pb = st.planet_bearing
                     bearings.append(
-                        RollingBearing(
-                            name=f"{p}.bearing",
-                            inner=st.carrier,
-                            outer=p,
-                            n_elements=pb.n_elements,
-                            element_diameter=pb.element_diameter_m,
-                            pitch_diameter=pb.pitch_diameter_m,
-                            contact_angle=math.radians(pb.contact_angle_deg),
-                            kind=pb.kind,
-                        )
+                        st.planet_bearing.rolling_bearing(f"{p}.bearing", st.carrier, p)
                     )
             psets.append(
                 PlanetarySet(
@@ -580,18 +583,7 @@ class Mechanism(_Model):
                     f"{where}: there is no turning pair between '{b.inner}' and '{b.outer}' "
                     "(a bearing sits on a turning pair)"
                 )
-            bearings.append(
-                RollingBearing(
-                    name=b.name,
-                    inner=b.inner,
-                    outer=b.outer,
-                    n_elements=b.n_elements,
-                    element_diameter=b.element_diameter_m,
-                    pitch_diameter=b.pitch_diameter_m,
-                    contact_angle=math.radians(b.contact_angle_deg),
-                    kind=b.kind,
-                )
-            )
+            bearings.append(b.rolling_bearing(b.name, b.inner, b.outer))
 
         # every moving link must be held by a turning pair
         held = {j.link_a for j in joints} | {j.link_b for j in joints}

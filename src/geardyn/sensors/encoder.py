@@ -99,9 +99,7 @@ def _graduation(err: np.ndarray | float | None, r: int, seed) -> np.ndarray:
     return e
 
 
-def quantise_clock(
-    pulse_times: np.ndarray, f_clock: float, clock_phase: float = 0.0
-) -> np.ndarray:
+def quantise_clock(pulse_times: np.ndarray, f_clock: float, clock_phase: float = 0.0) -> np.ndarray:
     """Counter values (integer ticks) latched at each edge: ``floor(t·f_clock + phase)``.
 
     ``clock_phase`` in [0, 1) is the clock's fractional tick at ``t = 0``.

@@ -28,6 +28,7 @@ import numpy as np
 
 from geardyn.errors import InputError
 from geardyn.signal._checks import array1d, positive_int
+from geardyn.signal._checks import planet_angles as planet_angles_checked
 
 
 def planet_pass_signal(
@@ -52,13 +53,7 @@ def planet_pass_signal(
     n = positive_int("n_planets", n_planets, "number of planets")
     zr = positive_int("ring_teeth", ring_teeth, "ring tooth count")
     amp = array1d("amplitudes", amplitudes, 1, "harmonic amplitudes")
-    psi = (
-        2.0 * np.pi * np.arange(n) / n
-        if planet_angles is None
-        else array1d("planet_angles", planet_angles, n, "planet angles")
-    )
-    if psi.size != n:
-        raise InputError(f"planet_angles: needs {n} angles (one per planet), got {psi.size}")
+    psi = planet_angles_checked(planet_angles, n)
     ph = np.zeros(amp.size) if phases is None else array1d("phases", phases, amp.size)
     if ph.size != amp.size:
         raise InputError("phases: needs one phase per harmonic amplitude")

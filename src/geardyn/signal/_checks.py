@@ -67,3 +67,13 @@ def rng(seed: int | np.random.Generator | None, name: str = "seed") -> np.random
     if isinstance(seed, np.random.Generator):
         return seed
     return np.random.default_rng(positive_int(name, seed, "seed", minimum=0))
+
+
+def planet_angles(value: Any, n: int) -> np.ndarray:
+    """Planet angles [rad]: ``value`` (one per planet) or, if ``None``, equally spaced 2πk/n."""
+    if value is None:
+        return 2.0 * np.pi * np.arange(n) / n
+    psi = array1d("planet_angles", value, 1, "planet angles [rad]")
+    if psi.size != n:
+        raise InputError(f"planet_angles: needs {n} angles (one per planet), got {psi.size}")
+    return psi

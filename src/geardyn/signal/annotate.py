@@ -23,8 +23,13 @@ if TYPE_CHECKING:
 
 KINDS = ("shaft", "mesh", "sideband", "bearing", "fault", "planet_pass", "planet_dominant")
 _COLORS = {
-    "shaft": "tab:blue", "mesh": "tab:red", "sideband": "tab:orange", "bearing": "tab:green",
-    "fault": "tab:purple", "planet_pass": "tab:brown", "planet_dominant": "black",
+    "shaft": "tab:blue",
+    "mesh": "tab:red",
+    "sideband": "tab:orange",
+    "bearing": "tab:green",
+    "fault": "tab:purple",
+    "planet_pass": "tab:brown",
+    "planet_dominant": "black",
 }
 
 
@@ -137,5 +142,13 @@ def annotate_axes(
     for i, (_, r) in enumerate(sel.iterrows()):
         ax.axvline(r[unit], color=_COLORS[r["kind"]], lw=0.7, ls="--", alpha=0.7)
         if label and i < max_labels and r["kind"] != "sideband":
-            ax.text(r[unit], ytop, r["label"], rotation=90, fontsize=6, va="top", ha="right",
-                    color=_COLORS[r["kind"]])
+            ax.text(
+                r[unit],
+                ytop,
+                r["label"],
+                rotation=90,
+                fontsize=6,
+                va="top",
+                ha="right",
+                color=_COLORS[r["kind"]],
+            )

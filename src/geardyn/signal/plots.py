@@ -87,8 +87,9 @@ def plot_cepstrum(cep: xr.DataArray, qmax: float | None = None, title: str = "")
     return fig
 
 
-def plot_waterfall(m: xr.DataArray, n_lines: int = 20, ymax: float | None = None,
-                   title: str = "") -> Any:
+def plot_waterfall(
+    m: xr.DataArray, n_lines: int = 20, ymax: float | None = None, title: str = ""
+) -> Any:
     """Waterfall: up to ``n_lines`` spectra of a map (dims ``(order|frequency, angle|time)``),
     each offset vertically by its speed [rpm] (if a ``speed`` coordinate exists) or position."""
     fig, ax = _fig((8, 6))

@@ -85,9 +85,7 @@ def speed_from_pulses(
     return 0.5 * (tp[1:] + tp[:-1]), (2.0 * np.pi / r) / np.diff(tp)
 
 
-def angle_from_speed(
-    time: np.ndarray, speed: np.ndarray, angle0: float = 0.0
-) -> np.ndarray:
+def angle_from_speed(time: np.ndarray, speed: np.ndarray, angle0: float = 0.0) -> np.ndarray:
     """Shaft angle [rad] by trapezoidal integration of a speed history [rad/s] (exact for a
     piecewise-linear speed law). Use it to feed :func:`geardyn.sensors.simulate_ias` or
     :func:`resample_to_angle` when a model outputs speed only."""
@@ -113,9 +111,7 @@ def speed_from_angle(time: np.ndarray, angle: np.ndarray) -> np.ndarray:
     return np.gradient(th, t, edge_order=2)
 
 
-def distant_shaft(
-    reference: np.ndarray, ratio: float | complex, offset: float = 0.0
-) -> np.ndarray:
+def distant_shaft(reference: np.ndarray, ratio: float | complex, offset: float = 0.0) -> np.ndarray:
     """Speed or angle of another shaft through a kinematic ratio (``ω_other = ratio·ω_ref``).
 
     Use ``KinematicAnalysis.velocity_ratios([ref])`` for the ratio (real part; imaginary parts
@@ -258,9 +254,7 @@ def resample_to_angle(
     return AngleSignal(xr, spr, float(targets[0]), tk, valid)
 
 
-def resample_ias_to_angle(
-    angle: np.ndarray, ias: np.ndarray, samples_per_rev: int
-) -> np.ndarray:
+def resample_ias_to_angle(angle: np.ndarray, ias: np.ndarray, samples_per_rev: int) -> np.ndarray:
     """Re-grid IAS samples [rad/s] given at increasing angles [rad] onto a uniform angle grid of
     ``samples_per_rev`` per revolution starting at ``angle[0]`` (linear interpolation; the
     elapsed-time samples are already nearly uniform in angle)."""

@@ -40,8 +40,11 @@ def amplitude_spectrum(x: np.ndarray, fs: float, window: str = "hann") -> xr.Dat
     spec = _amplitude(a, window)
     freq = np.fft.rfftfreq(a.size, 1.0 / f)
     return xr.DataArray(
-        spec, coords={"frequency": ("frequency", freq, {"units": "Hz"})},
-        dims="frequency", name="amplitude", attrs={"window": window},
+        spec,
+        coords={"frequency": ("frequency", freq, {"units": "Hz"})},
+        dims="frequency",
+        name="amplitude",
+        attrs={"window": window},
     )
 
 
@@ -53,8 +56,11 @@ def order_spectrum(x: np.ndarray, samples_per_rev: float, window: str = "hann") 
     spec = _amplitude(a, window)
     order = np.fft.rfftfreq(a.size, 1.0 / spr)
     return xr.DataArray(
-        spec, coords={"order": ("order", order, {"units": "events/rev"})},
-        dims="order", name="amplitude", attrs={"window": window},
+        spec,
+        coords={"order": ("order", order, {"units": "events/rev"})},
+        dims="order",
+        name="amplitude",
+        attrs={"window": window},
     )
 
 
@@ -65,8 +71,10 @@ def psd(x: np.ndarray, fs: float, nperseg: int = 4096, window: str = "hann") -> 
     n = min(positive_int("nperseg", nperseg, "segment length", minimum=4), a.size)
     freq, p = sps.welch(a, fs=f, window=window, nperseg=n)
     return xr.DataArray(
-        p, coords={"frequency": ("frequency", freq, {"units": "Hz"})},
-        dims="frequency", name="psd",
+        p,
+        coords={"frequency": ("frequency", freq, {"units": "Hz"})},
+        dims="frequency",
+        name="psd",
     )
 
 
@@ -99,9 +107,12 @@ def stft(
     freq, centres, mag = _stft(a, f, nperseg, overlap, window)
     return xr.DataArray(
         mag,
-        coords={"frequency": ("frequency", freq, {"units": "Hz"}),
-                "time": ("time", centres, {"units": "s"})},
-        dims=("frequency", "time"), name="amplitude",
+        coords={
+            "frequency": ("frequency", freq, {"units": "Hz"}),
+            "time": ("time", centres, {"units": "s"}),
+        },
+        dims=("frequency", "time"),
+        name="amplitude",
     )
 
 
@@ -121,8 +132,10 @@ def angular_spectrogram(
     spr = positive_int("samples_per_rev", samples_per_rev, "samples per revolution")
     n = int(round(positive("revs_per_segment", revs_per_segment) * spr))
     order, centres, mag = _stft(a, float(spr), n, overlap, window)
-    coords = {"order": ("order", order, {"units": "events/rev"}),
-              "angle": ("angle", centres, {"units": "rev"})}
+    coords = {
+        "order": ("order", order, {"units": "events/rev"}),
+        "angle": ("angle", centres, {"units": "rev"}),
+    }
     if speed is not None:
         sp = array1d("speed", speed, a.size)
         if sp.size != a.size:

@@ -46,9 +46,7 @@ def _frf(H: np.ndarray) -> np.ndarray:
     return h.astype(complex)
 
 
-def frf_from_mck(
-    M: np.ndarray, C: np.ndarray, K: np.ndarray, omega: np.ndarray
-) -> np.ndarray:
+def frf_from_mck(M: np.ndarray, C: np.ndarray, K: np.ndarray, omega: np.ndarray) -> np.ndarray:
     """Receptance ``H(ω) = (K − ω²M + iωC)⁻¹`` [m/N or rad/(N·m)] at ``omega`` [rad/s];
     shape ``(F, n, n)``."""
     m, c, k = (np.asarray(a, dtype=float) for a in (M, C, K))

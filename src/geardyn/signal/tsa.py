@@ -19,6 +19,7 @@ import numpy as np
 
 from geardyn.errors import InputError
 from geardyn.signal._checks import array1d, positive_int
+from geardyn.signal._checks import planet_angles as planet_angles_checked
 
 
 def tsa(x: np.ndarray, samples_per_rev: int) -> np.ndarray:
@@ -139,13 +140,7 @@ def planetary_tsa(
         )
     if not 0 <= planet < n:
         raise InputError(f"planet: must be in 0..{n - 1}, got {planet}")
-    psi = (
-        2 * np.pi * np.arange(n) / n
-        if planet_angles is None
-        else array1d("planet_angles", planet_angles, n, "planet angles [rad]")
-    )
-    if psi.size != n:
-        raise InputError(f"planet_angles: needs {n} angles (one per planet), got {psi.size}")
+    psi = planet_angles_checked(planet_angles, n)
     spt = spc // zr  # samples per ring-mesh period
     m = zg * spt  # samples per averaged-gear revolution (mesh-count frame)
     half = wt * spt // 2

@@ -18,9 +18,7 @@ SEED004_CRACK_SCALES = np.arange(1, 2002, 50)
 SEED004_SPALL_SCALES = np.arange(1, 502, 10)
 
 
-def cwt_morlet(
-    x: np.ndarray, fs: float = 1.0, scales: np.ndarray | None = None
-) -> xr.DataArray:
+def cwt_morlet(x: np.ndarray, fs: float = 1.0, scales: np.ndarray | None = None) -> xr.DataArray:
     """|CWT| with the real Morlet wavelet; dims ``(scale, position)`` with a ``frequency``
     coordinate (pseudo-frequency ``pywt.scale2frequency('morl', a)·fs``, Hz or orders)
     and ``position`` in s (or rev). Default scales: seed 004 crack setting 1:50:2001."""
