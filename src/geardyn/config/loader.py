@@ -11,6 +11,7 @@ from pydantic import Field, ValidationError, model_validator
 
 from geardyn.config.gears import GearGeometryConfig, check_gear_geometry
 from geardyn.config.mechanism import Mechanism
+from geardyn.config.transmission import TransmissionConfig, check_transmission
 from geardyn.errors import ConfigError
 
 
@@ -29,6 +30,17 @@ class GeardynConfig(Mechanism):
     @model_validator(mode="after")
     def _check_gear_geometry(self) -> GeardynConfig:
         problems = check_gear_geometry(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
+
+    transmission: TransmissionConfig | None = Field(
+        None, description="finite-element transmission model (see geardyn.config.transmission)"
+    )
+
+    @model_validator(mode="after")
+    def _check_transmission(self) -> GeardynConfig:
+        problems = check_transmission(self)
         if problems:
             raise ValueError("\n".join(problems))
         return self

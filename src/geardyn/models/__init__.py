@@ -1,0 +1,1 @@
+"""Dynamic models of gear transmissions."""

@@ -1,0 +1,400 @@
+"""Assembly of the FE transmission (seed 002 eqs 2-3): shafts of Timoshenko elements, rigid
+wheels, bearings and gear meshes as connecting forces; modal analysis and modal damping.
+
+Global DOFs: 6 per node (x, y, z, θx, θy, θz), shafts numbered in config order, nodes along
++z from each shaft start. SI units.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import eigh
+
+from geardyn.bearings.hertz import ball_race_stiffness, reduced_modulus, roller_race_stiffness
+from geardyn.elements.beam import ShaftSection, timoshenko_element
+from geardyn.elements.disc import rigid_disc, solid_disc_properties
+from geardyn.errors import ConfigError, InputError
+
+
+@dataclass
+class Bearings:
+    """Structure-of-arrays bearing parameters (see :func:`.kernels.bearing_forces`)."""
+
+    names: list[str]
+    node: np.ndarray
+    kind: np.ndarray  # 0 ball, 1 roller
+    z: np.ndarray
+    k: np.ndarray
+    a0: np.ndarray
+    pd: np.ndarray
+    cage: np.ndarray
+    dm: np.ndarray
+    crr: np.ndarray
+    visc: np.ndarray
+    kax: np.ndarray
+    cax: np.ndarray
+    sp_ang: np.ndarray
+    sp_len: np.ndarray
+    sp_depth: np.ndarray
+
+    def args(self) -> tuple:
+        return (
+            self.node, self.kind, self.z, self.k, self.a0, self.pd, self.cage, self.dm,
+            self.crr, self.visc, self.kax, self.cax, self.sp_ang, self.sp_len, self.sp_depth,
+        )
+
+
+@dataclass
+class Meshes:
+    """Structure-of-arrays gear-mesh parameters (see :func:`.kernels.mesh_forces`)."""
+
+    names: list[str]
+    na: np.ndarray
+    nb: np.ndarray
+    V: np.ndarray
+    nsl: np.ndarray
+    tab: np.ndarray
+    tlen: np.ndarray
+    npc: np.ndarray
+    za: np.ndarray
+    s: np.ndarray
+    xi0: np.ndarray
+    w: np.ndarray
+    rhoa: np.ndarray
+    rhob: np.ndarray
+    npair: np.ndarray
+    that: np.ndarray
+    mu: np.ndarray
+    csf: np.ndarray
+    geometry: list = field(default_factory=list)
+    tables: list = field(default_factory=list)
+
+    def args(self) -> tuple:
+        return (
+            self.na, self.nb, self.V, self.nsl, self.tab, self.tlen, self.npc, self.za,
+            self.s, self.xi0, self.w, self.rhoa, self.rhob, self.npair, self.that, self.mu,
+            self.csf,
+        )
+
+
+@dataclass
+class TransmissionModel:
+    """Assembled model: matrices (SI), connecting-force parameters, node bookkeeping."""
+
+    M: np.ndarray
+    K: np.ndarray
+    node_xyz: np.ndarray
+    shaft_nodes: dict[str, list[int]]
+    shaft_sign: dict[str, float]
+    bearings: Bearings
+    meshes: Meshes
+    drive_node: int
+    load_node: int
+    drive_torque: float
+    load_torque: float
+    modal_damping: float
+    C: np.ndarray | None = None
+
+    @property
+    def ndof(self) -> int:
+        return self.M.shape[0]
+
+    def node_of(self, shaft: str, local: int) -> int:
+        return self.shaft_nodes[shaft][local]
+
+    def node_sign(self, node: int) -> float:
+        """Rotation sign (+1 CCW) of the shaft carrying ``node`` for a positive drive."""
+        for name, ids in self.shaft_nodes.items():
+            if node in ids:
+                return self.shaft_sign[name]
+        raise InputError(f"node {node} is on no shaft")
+
+
+def assemble_shaft(section: ShaftSection, length: float, elements: int) -> tuple[np.ndarray, ...]:
+    """(K, M) of a uniform shaft of ``elements`` equal Timoshenko elements."""
+    n = elements + 1
+    K = np.zeros((6 * n, 6 * n))
+    M = np.zeros_like(K)
+    ke, me = timoshenko_element(length / elements, section)
+    for e in range(elements):
+        sl = slice(6 * e, 6 * e + 12)
+        K[sl, sl] += ke
+        M[sl, sl] += me
+    return K, M
+
+
+def modal_analysis(
+    M: np.ndarray, K: np.ndarray, fixed: list[int] | np.ndarray = ()
+) -> tuple[np.ndarray, np.ndarray]:
+    """Natural frequencies (Hz, ascending) and mass-normalised mode shapes (full DOF size,
+    zeros on ``fixed`` DOFs) of the undamped system (gyroscopic terms neglected)."""
+    n = M.shape[0]
+    free = np.setdiff1d(np.arange(n), np.asarray(fixed, dtype=int))
+    w2, phi = eigh(K[np.ix_(free, free)], M[np.ix_(free, free)])
+    w2 = np.clip(w2, 0.0, None)
+    shapes = np.zeros((n, free.size))
+    shapes[free] = phi
+    return np.sqrt(w2) / (2 * math.pi), shapes
+
+
+def modal_damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarray:
+    """C = M Φ diag(2 ζ ω_i) Φᵀ M (seed 002 §2.1, modal ratio ζ); rigid modes undamped."""
+    f, phi = modal_analysis(M, K)
+    w = 2 * math.pi * f
+    w[f < 1e-3 * max(f.max(), 1.0)] = 0.0
+    mp = M @ phi
+    return (mp * (2 * zeta * w)) @ mp.T
+
+
+def _rotation_signs(t, pair_shafts: dict[str, tuple[str, str]]) -> dict[str, float]:
+    """Rotation sign of each shaft (+1 = CCW about +z) for a positive drive rotation."""
+    sign = {t.drive.at.shaft: 1.0}
+    changed = True
+    while changed:
+        changed = False
+        for sa, sb in pair_shafts.values():
+            if sa in sign and sb not in sign:
+                sign[sb] = -sign[sa]
+                changed = True
+            elif sb in sign and sa not in sign:
+                sign[sa] = -sign[sb]
+                changed = True
+    for s in t.shafts:
+        sign.setdefault(s.name, 1.0)
+    return sign
+
+
+def _driver_order(t, pair_shafts) -> dict[str, int]:
+    """Distance (in meshes) of each shaft from the drive shaft."""
+    dist = {t.drive.at.shaft: 0}
+    for _ in range(len(pair_shafts) + 1):
+        for sa, sb in pair_shafts.values():
+            if sa in dist and sb not in dist:
+                dist[sb] = dist[sa] + 1
+            if sb in dist and sa not in dist:
+                dist[sa] = dist[sb] + 1
+    return dist
+
+
+def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionModel:  # noqa: ANN001
+    """Assemble the transmission of a loaded :class:`~geardyn.config.GeardynConfig`."""
+    from geardyn.config.gears import pair_model
+    from geardyn.gears.pe_stiffness import mesh_stiffness
+
+    t = cfg.transmission
+    if t is None:
+        raise ConfigError("transmission: section missing (nothing to simulate)")
+    # --- shafts
+    shaft_nodes: dict[str, list[int]] = {}
+    xyz = []
+    blocks = []
+    n0 = 0
+    for s in t.shafts:
+        sec = ShaftSection(
+            s.outer_diameter_m, s.inner_diameter_m, s.youngs_modulus_pa, s.poisson_ratio,
+            s.density_kg_m3,
+        )
+        k, m = assemble_shaft(sec, s.length_m, s.elements)
+        blocks.append((k, m))
+        ids = list(range(n0, n0 + s.elements + 1))
+        shaft_nodes[s.name] = ids
+        for i in range(s.elements + 1):
+            xyz.append((s.position_m[0], s.position_m[1], s.length_m * i / s.elements))
+        n0 += s.elements + 1
+    ndof = 6 * n0
+    K = np.zeros((ndof, ndof))
+    M = np.zeros((ndof, ndof))
+    for (k, m), s in zip(blocks, t.shafts, strict=True):
+        a = 6 * shaft_nodes[s.name][0]
+        K[a : a + k.shape[0], a : a + k.shape[0]] += k
+        M[a : a + k.shape[0], a : a + k.shape[0]] += m
+    node_xyz = np.array(xyz)
+
+    def node(ref) -> int:  # noqa: ANN001
+        return shaft_nodes[ref.shaft][ref.node]
+
+    # --- wheels (rigid discs between bore and pitch radius)
+    pairs = {m.pair: pair_model(cfg, m.pair) for m in t.meshes}
+    for w in t.wheels:
+        pm = pairs.get(w.pair) or pair_model(cfg, w.pair)
+        g = pm.geometry
+        side = 0 if w.gear == "a" else 1
+        blank = (g.a, g.b)[side]
+        r_in = blank.rim_radius or 0.0
+        mass, ip, idia = solid_disc_properties(
+            g.pitch_radius[side], r_in, g.face_width, blank.material.density
+        )
+        d = 6 * node(w.at)
+        M[d : d + 6, d : d + 6] += rigid_disc(mass, ip, idia)
+    # --- bearings
+    nb = len(t.bearings)
+    B = Bearings(
+        names=[b.name for b in t.bearings],
+        node=np.array([node(b.at) for b in t.bearings], dtype=np.int64),
+        kind=np.array([0 if b.kind == "ball" else 1 for b in t.bearings], dtype=np.int64),
+        z=np.array([b.elements for b in t.bearings], dtype=np.int64),
+        k=np.zeros(nb), a0=np.zeros(nb),
+        pd=np.array([b.diametral_clearance_m for b in t.bearings], dtype=float),
+        cage=np.zeros(nb), dm=np.array([b.pitch_diameter_m for b in t.bearings], dtype=float),
+        crr=np.array([b.rolling_resistance for b in t.bearings], dtype=float),
+        visc=np.array([b.viscous_torque_nms_per_rad for b in t.bearings], dtype=float),
+        kax=np.array([b.flange_stiffness_n_per_m for b in t.bearings], dtype=float),
+        cax=np.array([b.axial_clearance_m for b in t.bearings], dtype=float),
+        sp_ang=np.zeros(nb), sp_len=np.zeros(nb), sp_depth=np.zeros(nb),
+    )
+    for i, b in enumerate(t.bearings):
+        ep = reduced_modulus(b.youngs_modulus_pa, b.poisson_ratio, b.youngs_modulus_pa,
+                             b.poisson_ratio)
+        B.cage[i] = 0.5 * (1.0 - b.element_diameter_m / b.pitch_diameter_m)
+        if b.kind == "ball":
+            B.k[i] = ball_race_stiffness(
+                b.element_diameter_m, b.pitch_diameter_m, b.inner_conformity,
+                b.outer_conformity, ep,
+            )[2]
+            B.a0[i] = (b.inner_conformity + b.outer_conformity - 1.0) * b.element_diameter_m
+        else:
+            B.k[i] = roller_race_stiffness(b.roller_length_m - 2 * b.roller_fillet_m)
+        if b.outer_spall is not None:
+            B.sp_ang[i] = math.radians(b.outer_spall.angle_deg)
+            B.sp_len[i] = math.radians(b.outer_spall.angular_length_deg)
+            B.sp_depth[i] = b.outer_spall.depth_m
+    # --- meshes
+    wheel_at = {(w.pair, w.gear): w.at for w in t.wheels}
+    pair_shafts = {m.pair: (wheel_at[(m.pair, "a")].shaft, wheel_at[(m.pair, "b")].shaft)
+                   for m in t.meshes}
+    sign = _rotation_signs(t, pair_shafts)
+    order = _driver_order(t, pair_shafts)
+    nm = len(t.meshes)
+    tabs, geoms = [], []
+    for i, mc in enumerate(t.meshes):
+        sa, sb = pair_shafts[mc.pair]
+        if order.get(sa, 0) > order.get(sb, 0):
+            raise ConfigError(
+                f"transmission.meshes[{i}].pair: gear a of '{mc.pair}' must be the driving "
+                "gear (on the drive side of the mesh)"
+            )
+        pm = pairs[mc.pair]
+        npc = mesh_points_per_cycle or mc.table_points_per_cycle
+        tabs.append(mesh_stiffness(pm.geometry, n_per_cycle=npc,
+                                   n_cycles=None if pm.faults else 1.0, faults=pm.faults))
+        geoms.append(pm.geometry)
+    nmax = max((tb.total.size for tb in tabs), default=1)
+    pmax = max((tb.pair_stiffness.shape[1] for tb in tabs), default=1)
+    smax = max((mc.slices for mc in t.meshes), default=1)
+    Mh = Meshes(
+        names=[m.pair for m in t.meshes],
+        na=np.zeros(nm, np.int64), nb=np.zeros(nm, np.int64), V=np.zeros((nm, smax, 12)),
+        nsl=np.array([m.slices for m in t.meshes], np.int64), tab=np.zeros((nm, nmax)),
+        tlen=np.zeros(nm, np.int64), npc=np.zeros(nm), za=np.zeros(nm), s=np.zeros(nm),
+        xi0=np.zeros(nm), w=np.zeros((nm, nmax, pmax)), rhoa=np.zeros((nm, nmax, pmax)),
+        rhob=np.zeros((nm, nmax, pmax)), npair=np.zeros(nm, np.int64), that=np.zeros((nm, 3)),
+        mu=np.array([m.friction_coefficient for m in t.meshes], float),
+        csf=np.array([m.squeeze_film_ns_per_m for m in t.meshes], float),
+        geometry=geoms, tables=tabs,
+    )
+    for i, mc in enumerate(t.meshes):
+        g, tb = geoms[i], tabs[i]
+        ia, ib = node(wheel_at[(mc.pair, "a")]), node(wheel_at[(mc.pair, "b")])
+        Mh.na[i], Mh.nb[i] = ia, ib
+        s = sign[pair_shafts[mc.pair][0]]
+        Mh.s[i] = s
+        Mh.za[i] = g.a.teeth
+        n = tb.total.size
+        Mh.tlen[i] = n
+        Mh.npc[i] = tb.n_per_cycle
+        Mh.tab[i, :n] = tb.total
+        Mh.npair[i] = tb.pair_stiffness.shape[1]
+        tot = np.where(tb.total > 0, tb.total, 1.0)
+        Mh.w[i, :n, : Mh.npair[i]] = tb.pair_stiffness / tot[:, None]
+        u = np.nan_to_num(tb.contact, nan=0.0)
+        tw = math.tan(g.working_pressure_angle)
+        Mh.rhoa[i, :n, : Mh.npair[i]] = g.base_radius[0] * tw + u
+        Mh.rhob[i, :n, : Mh.npair[i]] = g.base_radius[1] * tw - u
+        # geometry: e from O_a to O_b, transverse LOA normal n, tangent t = z × n
+        pa, pb = node_xyz[ia], node_xyz[ib]
+        e = np.array([pb[0] - pa[0], pb[1] - pa[1], 0.0])
+        e /= np.linalg.norm(e)
+        eperp = np.array([-e[1], e[0], 0.0])
+        al = g.working_pressure_angle
+        nvec = math.sin(al) * e + s * math.cos(al) * eperp
+        that = np.cross([0.0, 0.0, 1.0], nvec)
+        Mh.that[i] = that
+        hand = s * math.copysign(1.0, g.helix_angle) if g.helix_angle != 0 else 0.0
+        n3 = nvec + np.array([0.0, 0.0, hand * math.tan(abs(g.base_helix_angle))])
+        rho0 = g.base_radius[0] * math.tan(al)
+        zk = (np.arange(mc.slices) + 0.5) / mc.slices * g.face_width - 0.5 * g.face_width
+        for k in range(mc.slices):
+            p_a = -s * g.base_radius[0] * that + rho0 * nvec + np.array([0.0, 0.0, zk[k]])
+            p_b = p_a + (pa - pb) * np.array([1.0, 1.0, 0.0])
+            p_b[2] = zk[k]
+            Mh.V[i, k, :3] = n3
+            Mh.V[i, k, 3:6] = np.cross(p_a, n3)
+            Mh.V[i, k, 6:9] = -n3
+            Mh.V[i, k, 9:12] = -np.cross(p_b, n3)
+    drive_node, load_node = node(t.drive.at), node(t.load.at)
+    return TransmissionModel(
+        M=M, K=K, node_xyz=node_xyz, shaft_nodes=shaft_nodes, shaft_sign=sign, bearings=B,
+        meshes=Mh, drive_node=drive_node, load_node=load_node,
+        drive_torque=t.drive.torque_nm, load_torque=t.load.torque_nm,
+        modal_damping=t.modal_damping,
+    )
+
+
+def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Bearing + mesh forces (N, N·m) on every DOF at state (q, v)."""
+    from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+
+    f = np.zeros(model.ndof)
+    diss = np.zeros(5)
+    bl = np.zeros(model.bearings.node.size)
+    mf = np.zeros(model.meshes.na.size)
+    bearing_forces(q, v, f, diss, *model.bearings.args(), bl)
+    mesh_forces(q, v, f, diss, *model.meshes.args(), mf)
+    return f
+
+
+def static_equilibrium(
+    model: TransmissionModel, load_torque: float, q0: np.ndarray | None = None,
+    tol: float = 1e-10, max_iter: int = 200,
+) -> np.ndarray:
+    """Static deflection under ``load_torque`` (N·m, resisting, at the load node) with the
+    drive node's θz held (Newton with a finite-difference Jacobian; seed 002 eq 3 at rest).
+
+    The drive torque is the reaction at the held DOF."""
+    n = model.ndof
+    held = 6 * model.drive_node + 5
+    free = np.setdiff1d(np.arange(n), [held])
+    fext = np.zeros(n)
+    fext[6 * model.load_node + 5] = -model.node_sign(model.load_node) * load_torque
+    q = np.zeros(n) if q0 is None else q0.copy()
+    v = np.zeros(n)
+    # weak ground springs (1 kN/m) on translations keep unloaded clearances solvable
+    kreg = np.zeros(n)
+    kreg[np.arange(n) % 6 < 3] = 1e3
+    Kr = model.K + np.diag(kreg)
+
+    def resid(qq: np.ndarray) -> np.ndarray:
+        return (Kr @ qq - connecting_forces(model, qq, v) - fext)[free]
+
+    for _ in range(max_iter):
+        r = resid(q)
+        J = Kr[np.ix_(free, free)].copy()
+        h = 1e-9
+        f0 = connecting_forces(model, q, v)
+        for jj, j in enumerate(free):
+            qp = q.copy()
+            qp[j] += h
+            J[:, jj] -= (connecting_forces(model, qp, v) - f0)[free] / h
+        dq = np.linalg.solve(J, -r)
+        # limit the step (clearances make the first tangent nearly singular)
+        trans = (free % 6) < 3
+        big = np.abs(dq[trans]).max() if trans.any() else 0.0
+        rot = np.abs(dq[~trans]).max() if (~trans).any() else 0.0
+        alpha = min(1.0, 5e-6 / big if big > 0 else 1.0, 1e-4 / rot if rot > 0 else 1.0)
+        q[free] += alpha * dq
+        if alpha == 1.0 and np.abs(dq).max() < tol:
+            return q
+    raise InputError("static equilibrium did not converge (check clearances and loads)")

@@ -1,0 +1,157 @@
+"""Compiled (numba) connecting forces of the FE transmission: bearings and gear meshes.
+
+Structure-of-arrays parameters built by :mod:`.assembly`. All SI. The state is the global DOF
+vector (6 per node: x, y, z, θx, θy, θz, θz = full rotation).
+
+Bearings (seed 002 §2.1, Table 3-4; Thibault et al. [19]): inner ring at a node, outer ring
+fixed. Rolling element j sits at ψ_j = φ_cage + 2πj/Z with φ_cage = θz·(1 − D cos α/d_m)/2
+(outer ring fixed), so ball passage modulates the stiffness (BPFO). Ball: groove-centre
+distance A_j = √((A₀ − P_d/2 + u_r)² + u_z²), δ_j = A_j − A₀ (Harris & Kotzalas §7),
+Q_j = K δ_j^1.5. Roller: δ_j = u_r − P_d/2, Q_j = K δ_j^(10/9) (Palmgren), axial load on the
+flanges through a linear penalty beyond the axial play. Load-dependent rolling resistance
+torque T = c_rr (d_m/2) Σ Q_j (sign opposing rotation) and viscous torque α_bea ω (seed 002
+§3.1). Outer-race spall: over its angular length the contact deflection loses the spall depth.
+
+Gear meshes (seed 002 §2.2-2.4): K slices across the face; slice deflection
+δ_k = V_k · (q_a, q_b) − e_k, the linearised form of eqs 4-5 (θz enters as r_b θz, exact for
+the full rotation since r_b,a/r_b,b = z_a/z_b); force F_k = (k(ξ)/K) max(δ_k, 0) with k(ξ) the
+mesh stiffness table of :func:`geardyn.gears.mesh_stiffness` at the mesh phase
+ξ = z_a s θz,a /(2π) + ξ₀; squeeze-film damping (α_eng/K) δ̇_k on slices in contact; Coulomb
+friction μ F_p per tooth pair p (eq 10) along the profile tangent, regularised by
+tanh(v_s/v_reg), with pair load shares and contact positions from the same table.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+V_REG = 1e-3  # m/s, friction regularisation speed
+
+
+@njit(cache=True)
+def bearing_forces(
+    q, v, f, diss,
+    b_node, b_type, b_z, b_k, b_a0, b_pd, b_cage, b_dm, b_crr, b_visc, b_kax, b_cax,
+    b_sp_ang, b_sp_len, b_sp_depth, b_load,
+):  # pragma: no cover - compiled
+    """Add bearing forces to ``f``; diss[0] += viscous power, diss[1] += rolling-resistance
+    power; ``b_load[i]`` receives Σ Q_j of bearing i."""
+    for i in range(b_node.size):
+        n0 = 6 * b_node[i]
+        ux = q[n0]
+        uy = q[n0 + 1]
+        uz = q[n0 + 2]
+        th = q[n0 + 5]
+        om = v[n0 + 5]
+        cage = th * b_cage[i]
+        z = b_z[i]
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        qsum = 0.0
+        for j in range(z):
+            psi = cage + 2.0 * math.pi * j / z
+            c = math.cos(psi)
+            s = math.sin(psi)
+            ur = ux * c + uy * s
+            red = 0.0
+            if b_sp_depth[i] > 0.0:
+                d = (psi - b_sp_ang[i]) % (2.0 * math.pi)
+                if d > math.pi:
+                    d -= 2.0 * math.pi
+                if abs(d) < 0.5 * b_sp_len[i]:
+                    red = b_sp_depth[i]
+            if b_type[i] == 0:
+                ar = b_a0[i] - 0.5 * b_pd[i] + ur
+                a = math.sqrt(ar * ar + uz * uz)
+                dl = a - b_a0[i] - red
+                if dl > 0.0:
+                    qj = b_k[i] * dl * math.sqrt(dl)
+                    qsum += qj
+                    fx -= qj * ar / a * c
+                    fy -= qj * ar / a * s
+                    fz -= qj * uz / a
+            else:
+                dl = ur - 0.5 * b_pd[i] - red
+                if dl > 0.0:
+                    qj = b_k[i] * dl ** (10.0 / 9.0)
+                    qsum += qj
+                    fx -= qj * c
+                    fy -= qj * s
+        if b_type[i] == 1:
+            gap = abs(uz) - 0.5 * b_cax[i]
+            if gap > 0.0:
+                fz -= b_kax[i] * gap * (1.0 if uz > 0 else -1.0)
+        f[n0] += fx
+        f[n0 + 1] += fy
+        f[n0 + 2] += fz
+        trr = b_crr[i] * 0.5 * b_dm[i] * qsum * math.tanh(om / 1e-2)
+        f[n0 + 5] -= b_visc[i] * om + trr
+        diss[0] += b_visc[i] * om * om
+        diss[1] += trr * om
+        b_load[i] = qsum
+
+
+@njit(cache=True)
+def mesh_forces(
+    q, v, f, diss,
+    m_na, m_nb, m_V, m_nsl, m_tab, m_tlen, m_npc, m_za, m_s, m_xi0,
+    m_w, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_force,
+):  # pragma: no cover - compiled
+    """Add gear-mesh forces to ``f``; diss[2] += friction power, diss[3] += squeeze-film
+    power; ``m_force[i]`` receives the total normal (transverse LOA) force of mesh i."""
+    for i in range(m_na.size):
+        a0 = 6 * m_na[i]
+        b0 = 6 * m_nb[i]
+        xi = m_za[i] * m_s[i] * q[a0 + 5] / (2.0 * math.pi) + m_xi0[i]
+        pos = xi * m_npc[i]
+        n = m_tlen[i]
+        fl = math.floor(pos)
+        fr = pos - fl
+        i0 = int(fl % n)
+        i1 = (i0 + 1) % n
+        ktot = (1.0 - fr) * m_tab[i, i0] + fr * m_tab[i, i1]
+        inear = i0 if fr < 0.5 else i1
+        nsl = m_nsl[i]
+        ks = ktot / nsl
+        cs = m_csf[i] / nsl
+        ftot = 0.0
+        for k in range(nsl):
+            d = 0.0
+            dd = 0.0
+            for m in range(6):
+                d += m_V[i, k, m] * q[a0 + m] + m_V[i, k, 6 + m] * q[b0 + m]
+                dd += m_V[i, k, m] * v[a0 + m] + m_V[i, k, 6 + m] * v[b0 + m]
+            if d > 0.0:
+                fk = ks * d
+                ftot += fk
+                fv = cs * dd
+                diss[3] += fv * dd
+                fk += fv
+                for m in range(6):
+                    f[a0 + m] -= fk * m_V[i, k, m]
+                    f[b0 + m] -= fk * m_V[i, k, 6 + m]
+        m_force[i] = ftot
+        if m_mu[i] > 0.0 and ftot > 0.0:
+            tx = m_that[i, 0]
+            ty = m_that[i, 1]
+            dut = (v[a0] - v[b0]) * tx + (v[a0 + 1] - v[b0 + 1]) * ty
+            wa = v[a0 + 5]
+            wb = v[b0 + 5]
+            for p in range(m_np[i]):
+                w = m_w[i, inear, p]
+                if w <= 0.0:
+                    continue
+                ra = m_rhoa[i, inear, p]
+                rb = m_rhob[i, inear, p]
+                vs = dut + wa * ra + wb * rb
+                ff = m_mu[i] * w * ftot * math.tanh(vs / V_REG)
+                f[a0] -= ff * tx
+                f[a0 + 1] -= ff * ty
+                f[b0] += ff * tx
+                f[b0 + 1] += ff * ty
+                f[a0 + 5] -= ff * ra
+                f[b0 + 5] -= ff * rb
+                diss[2] += ff * vs
