@@ -398,3 +398,35 @@ def static_equilibrium(
         if alpha == 1.0 and np.abs(dq).max() < tol:
             return q
     raise InputError("static equilibrium did not converge (check clearances and loads)")
+
+
+def mesh_state(
+    model: TransmissionModel, q: np.ndarray, v: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(normal force N, mean slice deflection m, mesh phase ξ) of every mesh at state q."""
+    from geardyn.models.transmission.kernels import mesh_forces
+
+    mh = model.meshes
+    v = np.zeros_like(q) if v is None else v
+    f = np.zeros(model.ndof)
+    diss = np.zeros(5)
+    mf = np.zeros(mh.na.size)
+    mesh_forces(q, v, f, diss, *mh.args(), mf)
+    defl = np.zeros(mh.na.size)
+    xi = np.zeros(mh.na.size)
+    for i in range(mh.na.size):
+        qa = q[6 * mh.na[i] : 6 * mh.na[i] + 6]
+        qb = q[6 * mh.nb[i] : 6 * mh.nb[i] + 6]
+        d = mh.V[i, : mh.nsl[i], :6] @ qa + mh.V[i, : mh.nsl[i], 6:] @ qb
+        defl[i] = d.mean()
+        xi[i] = mh.za[i] * mh.s[i] * qa[5] / (2 * math.pi) + mh.xi0[i]
+    return mf, defl, xi
+
+
+def rigid_rotation(model: TransmissionModel, ratios: dict[str, float], angle: float) -> np.ndarray:
+    """DOF vector of the kinematic rigid rotation: reference shaft turned by ``angle`` (rad)."""
+    q = np.zeros(model.ndof)
+    for s, ids in model.shaft_nodes.items():
+        for nd in ids:
+            q[6 * nd + 5] = model.shaft_sign[s] * ratios[s] * angle
+    return q

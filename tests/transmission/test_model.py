@@ -1,0 +1,97 @@
+"""Assembled seed 002 transmission: static mesh check vs the mesh-stiffness module, modal
+analysis, energy balance, IAS orders, faults."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from geardyn.config.loader import load_config
+from geardyn.errors import ConfigError
+from geardyn.models.transmission.assembly import (
+    build_model,
+    mesh_state,
+    rigid_rotation,
+    static_equilibrium,
+)
+from geardyn.models.transmission.kernels import bearing_forces
+from geardyn.models.transmission.simulate import prepare, speed_ratios
+
+EX = "examples/seed002_transmission.toml"
+
+
+@pytest.fixture(scope="module")
+def cfg(examples_dir):
+    return load_config(examples_dir / "seed002_transmission.toml")
+
+
+@pytest.fixture(scope="module")
+def model(cfg):
+    return build_model(cfg)
+
+
+def test_static_mesh_force_and_deflection_match_stiffness_module(model) -> None:
+    """Under a constant load torque the mesh forces balance the torques (F = T / r_b) and the
+    mesh deflection equals F / k(ξ) of geardyn.gears.mesh_stiffness at the loaded phase."""
+    t_load = 100.0
+    r = speed_ratios(model, "output")
+    gl, gh = model.meshes.geometry
+    f_low = t_load / gl.base_radius[1]
+    f_high = f_low * gl.base_radius[0] / gh.base_radius[1]
+    for j in range(4):
+        phi = 0.01 + j * 2 * math.pi / 55 / 4
+        q = static_equilibrium(model, t_load, q0=rigid_rotation(model, r, phi))
+        force, defl, xi = mesh_state(model, q)
+        assert force[0] == pytest.approx(f_low, rel=1e-6)
+        assert force[1] == pytest.approx(f_high, rel=1e-6)
+        for i in range(2):
+            k = model.meshes.tables[i].at(xi[i])
+            assert defl[i] == pytest.approx(force[i] / k, rel=5e-3)
+        # helical stage: the input-shaft bearings (ball + roller flanges) carry F tan β_b
+        f = np.zeros(model.ndof)
+        bl = np.zeros(model.bearings.node.size)
+        bearing_forces(q, np.zeros_like(q), f, np.zeros(5), *model.bearings.args(), bl)
+        fz = sum(f[6 * model.node_of("input", k) + 2] for k in (1, 5))
+        fax = math.tan(gh.base_helix_angle) * f_high
+        assert abs(fz) == pytest.approx(fax, rel=1e-3)  # 1 kN/m static regularisation
+
+
+def test_linearised_modes_and_time_step(model) -> None:
+    p = prepare(model, "output")
+    f = p.frequencies_hz
+    assert f[0] < 1e-2  # the free rotation of the drive line
+    assert f[1] > 20.0
+    assert 1e-6 < p.dt_stable < 1e-4
+    # damping: the rigid rotation is undamped, elastic modes get ζ = 0.01
+    from geardyn.models.transmission.assembly import modal_analysis
+
+    _, phi = modal_analysis(model.M, p.K_lin)
+    zeta = np.diag(phi.T @ p.C @ phi)[1:6] / (2 * 2 * math.pi * f[1:6])
+    assert zeta == pytest.approx(0.01, rel=1e-6)
+    assert abs(phi[:, 0] @ p.C @ phi[:, 0]) < 1e-6
+
+
+def test_mesh_must_be_driven_by_gear_a(cfg) -> None:
+    data = cfg.model_dump(exclude_none=True)
+    t = data["transmission"]
+    t["drive"]["at"] = {"shaft": "output", "node": 0}
+    t["load"]["at"] = {"shaft": "input", "node": 0}
+    from geardyn.config.loader import parse_config
+
+    with pytest.raises(ConfigError, match="driving gear"):
+        build_model(parse_config(data))
+
+
+def test_config_errors_name_the_field(cfg) -> None:
+    from geardyn.config.loader import parse_config
+
+    data = cfg.model_dump(exclude_none=True)
+    data["transmission"]["shafts"][2]["position_m"] = [0.1455, 0.14]
+    with pytest.raises(ConfigError, match="centre distance"):
+        parse_config(data)
+    data = cfg.model_dump(exclude_none=True)
+    data["transmission"]["bearings"][0]["at"]["node"] = 9
+    with pytest.raises(ConfigError, match=r"bearings\[0\].*node"):
+        parse_config(data)
