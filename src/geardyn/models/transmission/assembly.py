@@ -144,7 +144,7 @@ def modal_damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarra
     """C = M Φ diag(2 ζ ω_i) Φᵀ M (seed 002 §2.1, modal ratio ζ); rigid modes undamped."""
     f, phi = modal_analysis(M, K)
     w = 2 * math.pi * f
-    w[f < 1e-3 * max(f.max(), 1.0)] = 0.0
+    w[f < 0.5] = 0.0  # rigid-body modes (drive-line rotation) carry no modal damping
     mp = M @ phi
     return (mp * (2 * zeta * w)) @ mp.T
 
