@@ -11,6 +11,7 @@ from pydantic import Field, ValidationError, model_validator
 
 from geardyn.config.gears import GearGeometryConfig, check_gear_geometry
 from geardyn.config.mechanism import Mechanism
+from geardyn.config.planetary import PlanetaryDynamics, check_planetary_dynamics
 from geardyn.config.transmission import TransmissionConfig, check_transmission
 from geardyn.errors import ConfigError
 
@@ -30,6 +31,17 @@ class GeardynConfig(Mechanism):
     @model_validator(mode="after")
     def _check_gear_geometry(self) -> GeardynConfig:
         problems = check_gear_geometry(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
+
+    planetary_dynamics: PlanetaryDynamics | None = Field(
+        None, description="lumped-parameter planetary model and simulation (geardyn.config.planetary)"
+    )
+
+    @model_validator(mode="after")
+    def _check_planetary_dynamics(self) -> GeardynConfig:
+        problems = check_planetary_dynamics(self)
         if problems:
             raise ValueError("\n".join(problems))
         return self

@@ -1,0 +1,276 @@
+"""Config schema of the lumped-parameter planetary model and its simulation (issue 4).
+
+TOML section ``[planetary_dynamics]`` (the mechanism's ``[[planetary]]`` stages give the tooth
+numbers, planet count and planet angles). SI units, stated in the field names.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+
+class _M(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class MemberParams(_M):
+    """A central member or planet: mass, inertia, radius, supports."""
+
+    mass_kg: float = Field(gt=0, description="mass (kg)")
+    inertia_kgm2: float = Field(gt=0, description="polar moment of inertia (kg·m²)")
+    base_radius_m: float | None = Field(
+        None, gt=0, description="base radius (m), sun/ring/planet; u = r_b θ")
+    bearing_n_per_m: float = Field(0.0, ge=0, description="bearing stiffness in x and y (N/m)")
+    torsional_support_nm_per_rad: float = Field(
+        0.0, ge=0, description="torsional support to the frame (N·m/rad)")
+    tip_radius_m: float | None = Field(
+        None, gt=0, description="planet tip radius (m), used to check that planets fit")
+
+
+class MeshParams(_M):
+    """Mesh stiffness along the line of action (N/m).
+
+    ``constant``: k = stiffness_n_per_m. ``square``: k_max for the double-contact part of the
+    mesh cycle, k_min otherwise (seed 003 eq 1.11). ``sine``: k = k_mean(1 + amplitude·sin 2πX).
+    ``seed004``: the piecewise-constant torsional stiffness of seed 004 ch. 5 (sun or ring mesh
+    of the seed 004 gearbox, via :func:`geardyn.gears.seed004_params`) divided by the pinion base
+    radius squared.
+    """
+
+    model: Literal["constant", "square", "sine", "seed004"] = "constant"
+    stiffness_n_per_m: float | None = Field(None, gt=0, description="mean mesh stiffness (N/m)")
+    k_max_n_per_m: float | None = Field(None, gt=0, description="square wave: double contact")
+    k_min_n_per_m: float | None = Field(None, gt=0, description="square wave: single contact")
+    contact_ratio: float | None = Field(None, ge=1, le=2)
+    amplitude: float = Field(0.0, ge=0, lt=1, description="sine: relative amplitude")
+    damping_ns_per_m: float = Field(0.0, ge=0, description="viscous mesh damping (N·s/m)")
+
+    @model_validator(mode="after")
+    def _check(self) -> MeshParams:
+        if self.model in ("constant", "sine") and self.stiffness_n_per_m is None:
+            raise ValueError(f"model '{self.model}' needs stiffness_n_per_m (N/m)")
+        if self.model == "square":
+            if None in (self.k_max_n_per_m, self.k_min_n_per_m, self.contact_ratio):
+                raise ValueError("model 'square' needs k_max_n_per_m, k_min_n_per_m and "
+                                 "contact_ratio")
+            if self.k_min_n_per_m > self.k_max_n_per_m:  # type: ignore[operator]
+                raise ValueError("k_min_n_per_m must not exceed k_max_n_per_m")
+        return self
+
+
+class FaultParams(_M):
+    """Seed 004 ch. 9 tooth fault: crack (fraction of tooth thickness) or spall."""
+
+    kind: Literal["crack", "spall"]
+    gear: Literal["sun", "ring", "planet"]
+    crack_fraction: float = Field(0.0, ge=0, lt=1, description="crack: s → s(1 − V)")
+    spall_depth_m: float = Field(0.0, ge=0, description="spall depth D (m)")
+    spall_centre: float = Field(0.6, gt=0, lt=1, description="fraction of the path of contact")
+    spall_half_width: float = Field(0.05, gt=0, lt=1, description="fraction of the path")
+
+
+class StageDynamics(_M):
+    """Lumped parameters of one mechanism planetary stage (seed 003 Table 3.1 layout)."""
+
+    stage: str = Field(description="name of a [[planetary]] stage of the mechanism")
+    pressure_angle_sun_deg: float = Field(20.0, gt=0, lt=45)
+    pressure_angle_ring_deg: float = Field(20.0, gt=0, lt=45)
+    carrier_radius_m: float = Field(gt=0, description="planet-circle radius r_c (m)")
+    sun: MemberParams
+    ring: MemberParams
+    carrier: MemberParams
+    planet: MemberParams
+    planet_bearing_n_per_m: float = Field(gt=0, description="planet bearing, radial and "
+                                          "tangential (N/m)")
+    sun_mesh: MeshParams
+    ring_mesh: MeshParams
+    transmission_error: bool = Field(False, description="seed 004 pitch + profile errors")
+    faults: list[FaultParams] = Field(default_factory=list)
+    sun_ring_phase: float = Field(0.0, description="γ_rs (mesh cycles), seed 004 Table 4-2")
+    pin_errors_m: list[float] | None = Field(
+        None, description="tangential planet pin position errors e_i (m), seed 003 eq 5.4")
+
+    @model_validator(mode="after")
+    def _check(self) -> StageDynamics:
+        for role in ("sun", "ring", "planet"):
+            if getattr(self, role).base_radius_m is None:
+                raise ValueError(f"{role}.base_radius_m is required")
+        return self
+
+
+class ShaftDynamics(_M):
+    """Shaft between two bodies (``stage.sun``, ``stage.carrier``, ``stage.ring``, rotors)."""
+
+    name: str
+    a: str
+    b: str
+    torsional_nm_per_rad: float = Field(0.0, ge=0)
+    flexural_n_per_m: float = Field(0.0, ge=0)
+
+
+class RotorDynamics(_M):
+    """Torsional body outside the stages (motor rotor, wheel); DOF ``<name>.theta`` (rad)."""
+
+    name: str
+    inertia_kgm2: float = Field(gt=0)
+    support_nm_per_rad: float = Field(0.0, ge=0)
+
+
+class TorqueLoad(_M):
+    """Constant or piecewise-linear torque on a body: ``profile`` = [[t_s, N·m], …]."""
+
+    body: str
+    torque_nm: float = 0.0
+    profile: list[tuple[float, float]] | None = None
+
+
+class SpeedControl(_M):
+    """Imposed speed of a body through a stiff speed control (inverter-like)."""
+
+    body: str
+    profile_rpm: list[tuple[float, float]] = Field(description="[[t_s, rpm], …]")
+    stiffness_nm_per_rad: float = Field(gt=0)
+    damping_nms_per_rad: float = Field(0.0, ge=0)
+
+
+class MotorDrive(_M):
+    """Induction motor on a rotor, optionally through a fluid coupling to a body.
+
+    ``piecewise``: seed 004 TorM; ``kloss``: seed 003 eq 1.18.
+    """
+
+    rotor: str
+    kind: Literal["piecewise", "kloss"] = "piecewise"
+    rated_power_w: float = Field(450e3, gt=0)
+    rated_speed_rpm: float = Field(950.0, gt=0)
+    frequency_hz: float = Field(50.0, gt=0)
+    poles: int = Field(6, gt=0)
+    breakdown_torque_nm: float = Field(0.0, ge=0)
+    breakdown_slip: float = Field(0.2, gt=0, lt=1)
+    kloss_a: float = 1.0
+    kloss_b: float = 0.0
+    coupling_to: str | None = Field(None, description="body driven through the coupling")
+    coupling_q: float = Field(15.0, gt=0, description="q_cc (N·m·s²/rad²), seed 004 eq 6.6")
+    coupling_ratio: float = Field(1.0, gt=0, description="ideal reduction between coupling "
+                                  "and body (29.2971 in seed 004)")
+
+
+class WheelLoad(_M):
+    """Seed 004 bucket-wheel load on the carrier: T = T_fl G (n_c/(k n_op/G))² × schedule."""
+
+    body: str
+    full_load_torque_nm: float = Field(4342.4, gt=0)
+    gear_ratio: float = Field(157.2789, gt=0)
+    rated_speed_rpm: float = Field(950.0, gt=0)
+    control_ratio: float = Field(5.0, gt=0)
+    schedule: bool = True
+    inertia_schedule: bool = Field(False, description="carrier + wheel inertia vs angle")
+    empty_inertia_kgm2: float = Field(92926.0, gt=0)
+    ore_inertia_kgm2: float = Field(16312.0, ge=0, description="per bucket-load")
+
+
+class Simulation(_M):
+    t_end_s: float = Field(gt=0)
+    dt_s: float = Field(gt=0)
+    save_every: int = Field(1, ge=1)
+    hht_alpha: float = Field(0.0, ge=0, le=1 / 3)
+    contact_loss: bool = False
+    rayleigh_alpha: float = Field(0.0, ge=0, description="C = α M + β K (1/s)")
+    rayleigh_beta: float = Field(0.0, ge=0, description="(s)")
+    support_damping: dict[str, float] = Field(default_factory=dict,
+                                              description="DOF name → N·s/m")
+    initial_speed_rpm: dict[str, float] = Field(
+        default_factory=dict, description="rigid-body initial speeds (body → rpm); one body "
+        "fixes the motion through the kinematics of each stage")
+    torques: list[TorqueLoad] = Field(default_factory=list)
+    speed_controls: list[SpeedControl] = Field(default_factory=list)
+    motor: MotorDrive | None = None
+    wheel_load: WheelLoad | None = None
+
+
+class PlanetaryDynamics(_M):
+    """Lumped-parameter planetary model (Lin & Parker form) and its simulation settings."""
+
+    reduction: Literal["none", "torsional", "transverse"] = "none"
+    stages: list[StageDynamics] = Field(min_length=1)
+    shafts: list[ShaftDynamics] = Field(default_factory=list)
+    rotors: list[RotorDynamics] = Field(default_factory=list)
+    simulation: Simulation | None = None
+
+
+def check_planetary_dynamics(cfg: object) -> list[str]:
+    """Cross-checks against the mechanism: stage names, planets fitting, body names."""
+    pd: PlanetaryDynamics | None = getattr(cfg, "planetary_dynamics", None)
+    if pd is None:
+        return []
+    problems: list[str] = []
+    stages = {s.name: s for s in getattr(cfg, "planetary", [])}
+    bodies: set[str] = {r.name for r in pd.rotors}
+    multi = len(pd.stages) > 1
+    for i, sd in enumerate(pd.stages):
+        where = f"planetary_dynamics.stages[{i}]"
+        st = stages.get(sd.stage)
+        if st is None:
+            problems.append(f"{where}.stage: unknown planetary stage '{sd.stage}' "
+                            f"(mechanism stages: {', '.join(stages) or 'none'})")
+            continue
+        pre = f"{sd.stage}." if multi else ""
+        bodies |= {pre + b for b in ("sun", "ring", "carrier")}
+        bodies |= {f"{pre}planet{j + 1}" for j in range(st.n_planets)}
+        ang = sorted(a % (2 * math.pi) for a in st.angles())
+        nxt = ang[1:] + [ang[0] + 2 * math.pi]
+        gaps = [b - a for a, b in zip(ang, nxt, strict=True)] if len(ang) > 1 else [2 * math.pi]
+        rt = sd.planet.tip_radius_m or (
+            sd.planet.base_radius_m  # type: ignore[operator]
+            / math.cos(math.radians(sd.pressure_angle_sun_deg))
+            * (1 + 2 / st.planet_ring_teeth))
+        min_dist = 2 * sd.carrier_radius_m * math.sin(min(gaps) / 2)
+        if min_dist <= 2 * rt:
+            problems.append(
+                f"{where}: planets do not fit: the closest planet centres are "
+                f"{min_dist * 1e3:.1f} mm apart (2 r_c sin(Δψ/2)) but the planet tip diameter is "
+                f"{2 * rt * 1e3:.1f} mm")
+        rs, rp, rr = sd.sun.base_radius_m, sd.planet.base_radius_m, sd.ring.base_radius_m
+        rc = sd.carrier_radius_m
+        # rigid rotation must not strain the meshes: r_c cos α_s = r_bs + r_bp and
+        # r_c cos α_r = r_br − r_bp (Lin & Parker deflections, seed 003 notes §2.3)
+        for label, alpha, target in (
+            ("pressure_angle_sun_deg", sd.pressure_angle_sun_deg, rs + rp),  # type: ignore[operator]
+            ("pressure_angle_ring_deg", sd.pressure_angle_ring_deg, rr - rp),  # type: ignore[operator]
+        ):
+            got = rc * math.cos(math.radians(alpha))
+            if abs(got - target) > 5e-3 * rc:
+                hint = (f"use {math.degrees(math.acos(target / rc)):.3f} deg"
+                        if 0 < target < rc else "check the radii")
+                problems.append(
+                    f"{where}.{label}: inconsistent with the radii: r_c cos α = {got * 1e3:.3f} mm "
+                    f"but the base radii require {target * 1e3:.3f} mm (rule r_c cos α_s = r_bs + "
+                    f"r_bp, r_c cos α_r = r_br − r_bp, to 0.5 %); {hint}")
+        if sd.pin_errors_m is not None and len(sd.pin_errors_m) != st.n_planets:
+            problems.append(f"{where}.pin_errors_m: {len(sd.pin_errors_m)} values for "
+                            f"{st.n_planets} planets")
+    for j, sh in enumerate(pd.shafts):
+        for side in ("a", "b"):
+            name = getattr(sh, side)
+            if name not in bodies:
+                problems.append(f"planetary_dynamics.shafts[{j}] '{sh.name}'.{side}: unknown body "
+                                f"'{name}' (bodies: {', '.join(sorted(bodies))})")
+    sim = pd.simulation
+    if sim is not None:
+        refs = [("torques", t.body) for t in sim.torques] + [
+            ("speed_controls", s.body) for s in sim.speed_controls] + [
+            ("initial_speed_rpm", b) for b in sim.initial_speed_rpm]
+        if sim.motor:
+            refs.append(("motor.rotor", sim.motor.rotor))
+            if sim.motor.coupling_to:
+                refs.append(("motor.coupling_to", sim.motor.coupling_to))
+        if sim.wheel_load:
+            refs.append(("wheel_load.body", sim.wheel_load.body))
+        for where, name in refs:
+            if name not in bodies:
+                problems.append(f"planetary_dynamics.simulation.{where}: unknown body '{name}' "
+                                f"(bodies: {', '.join(sorted(bodies))})")
+    return problems

@@ -1,0 +1,330 @@
+"""Build the planetary model, mesh laws and simulation system from a :class:`GeardynConfig`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from geardyn.config.planetary import PlanetaryDynamics, StageDynamics
+from geardyn.errors import ConfigError
+from geardyn.gears import seed004_params, square_wave, torsional_stiffness_curve
+from geardyn.gears.torsional import (
+    pairs_in_contact,
+    torsional_mesh_stiffness,
+    wang_crack_curve,
+    wang_spall_reduction,
+)
+from geardyn.models.planetary.dynamics import MeshLaw, build_system
+from geardyn.models.planetary.model import (
+    PlanetaryModel,
+    RotorSpec,
+    ShaftSpec,
+    StageSpec,
+    assemble,
+)
+from geardyn.operating import RPM, BucketWheelSchedule, KlossMotor, PiecewiseMotor
+from geardyn.solve.integrate import (
+    FLUID_COUPLING,
+    SPEED_CONTROL,
+    SPEED_SQUARED_LOAD,
+    SPEED_TORQUE,
+    LinearSystem,
+    MassSchedule,
+)
+
+SAMPLES_PER_CYCLE = 64
+
+
+def model_from_config(cfg: object, reduction: str | None = None) -> PlanetaryModel:
+    """Assemble the model of ``cfg.planetary_dynamics`` (reduction overrides the config)."""
+    pd: PlanetaryDynamics | None = getattr(cfg, "planetary_dynamics", None)
+    if pd is None:
+        raise ConfigError("the config has no [planetary_dynamics] section")
+    mech = {s.name: s for s in cfg.planetary}  # type: ignore[attr-defined]
+    multi = len(pd.stages) > 1
+    specs = []
+    for sd in pd.stages:
+        st = mech[sd.stage]
+
+        def member(p, radius):  # noqa: ANN001, ANN202
+            return dict(mass=p.mass_kg, inertia=p.inertia_kgm2, radius=radius,
+                        bearing=p.bearing_n_per_m, torsional=p.torsional_support_nm_per_rad)
+
+        specs.append(StageSpec(
+            sd.stage, st.n_planets, st.angles(),
+            sun=member(sd.sun, sd.sun.base_radius_m),
+            ring=member(sd.ring, sd.ring.base_radius_m),
+            carrier=member(sd.carrier, sd.carrier_radius_m),
+            planet=member(sd.planet, sd.planet.base_radius_m),
+            alpha_s=math.radians(sd.pressure_angle_sun_deg),
+            alpha_r=math.radians(sd.pressure_angle_ring_deg),
+            k_sun_mesh=_mean_k(sd, "sun"), k_ring_mesh=_mean_k(sd, "ring"),
+            planet_bearing=sd.planet_bearing_n_per_m,
+            z_sun=st.sun_teeth, z_ring=st.ring_teeth, z_planet=st.planet_sun_teeth,
+            prefix=multi,
+        ))
+    shafts = [ShaftSpec(s.name, s.a, s.b, s.torsional_nm_per_rad, s.flexural_n_per_m)
+              for s in pd.shafts]
+    rotors = [RotorSpec(r.name, r.inertia_kgm2, r.support_nm_per_rad) for r in pd.rotors]
+    return assemble(specs, shafts, rotors, reduction or pd.reduction)
+
+
+def _seed004_k(which: str, x: np.ndarray) -> tuple[np.ndarray, float, float]:
+    p = seed004_params(which)
+    # X = 0 at the pitch point of planet 1's first pair (seed 004 §4.2: offset PBP − PBD)
+    eps = p.contact_ratio
+    offset = _pitch_offset(which, eps)
+    k = torsional_stiffness_curve(p, x, 0.0, offset) / p.r_pb**2
+    return k, offset, p.r_pb
+
+
+def _pitch_offset(which: str, eps: float) -> float:
+    # PBP − PBD from notes §4.1: PBPs = 0.83382, PBPr = 1.43287, PBD = 1
+    return (0.83382 if which == "sun" else 1.43287) - 1.0
+
+
+def _mean_k(sd: StageDynamics, which: str) -> float:
+    m = sd.sun_mesh if which == "sun" else sd.ring_mesh
+    if m.model in ("constant", "sine"):
+        return float(m.stiffness_n_per_m)  # type: ignore[arg-type]
+    if m.model == "square":
+        c = float(m.contact_ratio)  # type: ignore[arg-type]
+        return m.k_max_n_per_m * (c - 1) + m.k_min_n_per_m * (2 - c)  # type: ignore[operator]
+    x = np.linspace(0, 1, SAMPLES_PER_CYCLE, endpoint=False)
+    return float(_seed004_k(which, x)[0].mean())
+
+
+def _seed004_errors(which: str, x: np.ndarray, z_gear: int, z_planet: int, eps: float
+                    ) -> np.ndarray:
+    """Seed 004 §4.1-4.3 combined error (m): pitch (gear + planet, per revolution) + max profile
+    of the pairs in contact (coefficients of notes §2.7, mm → m)."""
+    if which == "sun":
+        gear = (-0.002, 0.0015, -0.001)
+        prof = (0.001, 0.0015, 0.002)
+    else:
+        gear = (-0.0015, 0.002, -0.0015)
+        prof = (-0.001, 0.0015, -0.002)
+    planet = (-0.0015, 0.001, 0.002)
+
+    def pitch(coef: tuple[float, ...], frac: np.ndarray) -> np.ndarray:
+        return sum(c * np.sin(2 * math.pi * (i + 1) * frac) for i, c in enumerate(coef))
+
+    e = pitch(gear, np.mod(x / z_gear, 1.0)) + pitch(planet, np.mod(x / z_planet, 1.0))
+    off = _pitch_offset(which, eps)
+    y, tt = pairs_in_contact(x, eps, 0.0, off)
+    best = np.full(x.shape, -np.inf)
+    for j in range(int(math.ceil(eps)) + 1):
+        tau = (tt + j) / eps
+        val = sum(c * np.sin(2 * math.pi * (i + 1) * tau) for i, c in enumerate(prof))
+        best = np.where(j < y, np.maximum(best, val), best)
+    return (e + best) * 1e-3
+
+
+def mesh_laws(cfg: object, model: PlanetaryModel) -> dict[tuple[str, str], MeshLaw]:
+    """Time-varying mesh laws of every stage from its mesh settings and faults."""
+    pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
+    laws: dict[tuple[str, str], MeshLaw] = {}
+    for sd in pd.stages:
+        info = model.stages[sd.stage]
+        for which, m in (("sun", sd.sun_mesh), ("ring", sd.ring_mesh)):
+            x1 = np.arange(SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
+            if m.model == "constant":
+                laws[(sd.stage, which)] = MeshLaw.constant(m.stiffness_n_per_m)  # type: ignore[arg-type]
+            elif m.model == "sine":
+                k = m.stiffness_n_per_m * (1 + m.amplitude * np.sin(2 * math.pi * x1))  # type: ignore[operator]
+                laws[(sd.stage, which)] = MeshLaw(k)
+            elif m.model == "square":
+                k = square_wave(x1, m.k_max_n_per_m, m.k_min_n_per_m, m.contact_ratio)  # type: ignore[arg-type]
+                laws[(sd.stage, which)] = MeshLaw(k)
+            else:
+                laws[(sd.stage, which)] = _seed004_law(sd, which, info.z_sun, info.z_ring,
+                                                       info.z_planet, len(info.psi))
+    return laws
+
+
+def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: int) -> MeshLaw:
+    p = seed004_params(which)
+    eps = p.contact_ratio
+    off = _pitch_offset(which, eps)
+    z_gear = zs if which == "sun" else zr
+    faults = [f for f in sd.faults if f.gear in (which, "planet")]
+    if not faults and not sd.transmission_error:
+        x = np.arange(SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
+        return MeshLaw(torsional_stiffness_curve(p, x, 0.0, off) / p.r_pb**2)
+    period = z_gear if not sd.transmission_error else math.lcm(z_gear, zp)
+    if any(f.gear == "planet" for f in faults):
+        period = math.lcm(period, zp)
+    x = np.arange(period * SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
+    base = torsional_stiffness_curve(p, x, 0.0, off)
+    e = _seed004_errors(which, x, z_gear, zp, eps) if sd.transmission_error else np.zeros(1)
+    per_planet = {}
+    for pl in range(1, n + 1):
+        k = base.copy()
+        err = e.copy() if sd.transmission_error else np.zeros(len(x))
+        for f in faults:
+            if f.gear == "planet" and pl != 1:
+                continue
+            teeth = zp if f.gear == "planet" else z_gear
+            # the faulty tooth enters contact at count 0 (planet 1; every planet in its own
+            # coordinate); a planet tooth meets the ring half a planet revolution later
+            c0 = (zp // 2) if (f.gear == "planet" and which == "ring") else 0
+            if f.kind == "crack":
+                k = np.minimum(k, wang_crack_curve(p, x, f.crack_fraction, c0, teeth, 0.0, off))
+            else:
+                xs = x + off
+                rel = np.mod(xs - c0, teeth)
+                posit = np.where(rel <= eps, rel / eps, -1.0)
+                frac_eq = min(f.spall_depth_m / p.tooth_thickness, 0.99)
+                y, _ = pairs_in_contact(x, eps, 0.0, off)
+                dk = np.zeros(len(x))
+                for ny in (1, 2, 3):
+                    sel = y == ny
+                    if sel.any():
+                        v = [0.0] * ny
+                        v[0] = frac_eq
+                        dk[sel] = torsional_mesh_stiffness(p, ny) - torsional_mesh_stiffness(
+                            p, ny, tuple(v))
+                red = np.where(posit >= 0, wang_spall_reduction(
+                    np.maximum(posit, 0), f.spall_centre, f.spall_half_width, 1.0), 0.0) * dk
+                k = k - red
+                inside = (posit >= 0) & (np.abs(posit - f.spall_centre) < f.spall_half_width)
+                prof = np.zeros(len(x))
+                prof[inside] = f.spall_depth_m * np.cos(
+                    (posit[inside] - f.spall_centre) / f.spall_half_width * math.pi / 2) ** 0.2
+                err = err - prof
+        per_planet[pl] = (k / p.r_pb**2, float(period), err, float(period))
+    first = per_planet[1]
+    return MeshLaw(first[0], first[1], first[2], first[3], per_planet, integer_offsets=True)
+
+
+@dataclass
+class Prepared:
+    model: PlanetaryModel
+    system: LinearSystem
+    mesh_index: list[int]
+    q0: np.ndarray
+    v0: np.ndarray
+
+
+def prepare(cfg: object) -> Prepared:
+    """Model, integrator system and initial state of the config's simulation."""
+    pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
+    sim = pd.simulation
+    if sim is None:
+        raise ConfigError("planetary_dynamics.simulation is missing (t_end_s, dt_s, ...)")
+    model = model_from_config(cfg)
+    laws = mesh_laws(cfg, model)
+    names = model.names
+    n = len(names)
+    drives: list[dict] = []
+    nt = 2
+    t_grid = np.array([0.0, sim.t_end_s])
+    profiles = [t for t in sim.torques if t.profile]
+    if profiles:
+        t_grid = np.unique(np.concatenate([[0.0, sim.t_end_s]] + [
+            np.array([p[0] for p in t.profile]) for t in profiles]))  # type: ignore[union-attr]
+        nt = len(t_grid)
+        # uniform grid for the kernel's table lookup
+        t_grid = np.linspace(0.0, max(sim.t_end_s, t_grid[-1]), max(nt, 2001))
+    force = np.zeros((len(t_grid), n))
+    for t in sim.torques:
+        b = model.body(t.body)
+        j = model.dof(_udof(model, t.body))
+        if t.profile:
+            tq = np.interp(t_grid, [p[0] for p in t.profile], [p[1] for p in t.profile])
+        else:
+            tq = np.full(len(t_grid), t.torque_nm)
+        force[:, j] += tq / b.radius
+    for sc in sim.speed_controls:
+        b = model.body(sc.body)
+        ts = np.array([p[0] for p in sc.profile_rpm])
+        w = np.array([p[1] for p in sc.profile_rpm]) * RPM
+        tt = np.linspace(ts[0], ts[-1], 4001) if len(ts) > 1 else ts
+        ww = np.interp(tt, ts, w)
+        th = np.concatenate([[0.0], np.cumsum(0.5 * (ww[1:] + ww[:-1]) * np.diff(tt))])
+        drives.append(dict(kind=SPEED_CONTROL, a=model.dof(_udof(model, sc.body)),
+                           ha=1.0 / b.radius, p0=sc.stiffness_nm_per_rad,
+                           p1=sc.damping_nms_per_rad, x=tt, y=th))
+    if sim.motor:
+        mo = sim.motor
+        rb = model.body(mo.rotor)
+        if mo.kind == "piecewise":
+            motor = PiecewiseMotor(mo.rated_power_w, mo.rated_speed_rpm, mo.frequency_hz,
+                                   mo.poles)
+        else:
+            motor = KlossMotor(mo.breakdown_torque_nm, mo.breakdown_slip, mo.kloss_a,
+                               mo.kloss_b, 120 * mo.frequency_hz / mo.poles)
+        wx, ty = motor.table()
+        drives.append(dict(kind=SPEED_TORQUE, a=model.dof(_udof(model, mo.rotor)),
+                           ha=1.0 / rb.radius, x=wx, y=ty))
+        if mo.coupling_to:
+            ob = model.body(mo.coupling_to)
+            drives.append(dict(kind=FLUID_COUPLING, a=model.dof(_udof(model, mo.rotor)),
+                               b=model.dof(_udof(model, mo.coupling_to)), ha=1.0 / rb.radius,
+                               hb=1.0 / ob.radius, p0=mo.coupling_q, p1=mo.coupling_ratio))
+    mass_sched = None
+    if sim.wheel_load:
+        wl = sim.wheel_load
+        b = model.body(wl.body)
+        sch = BucketWheelSchedule()
+        th = np.linspace(0, sch.points()["P47"] + 1.0, 4001)
+        fac = sch.load_factor(th, wl.control_ratio) if wl.schedule else np.ones(len(th))
+        # T = T_fl G (n_c / (k n_op / G))² → coefficient on ω_c² (rad/s)
+        w_ref = wl.control_ratio * wl.rated_speed_rpm / wl.gear_ratio * RPM
+        coef = wl.full_load_torque_nm * wl.gear_ratio / w_ref**2
+        dof_c = model.dof(_udof(model, wl.body))
+        drives.append(dict(kind=SPEED_SQUARED_LOAD, a=dof_c, ha=1.0 / b.radius, p0=coef,
+                           x=th, y=fac))
+        if wl.inertia_schedule:
+            jj = wl.empty_inertia_kgm2 + wl.ore_inertia_kgm2 * sch.ore(th)
+            m0 = model.mass_matrix()[dof_c, dof_c]
+            extra = m0 - b.inertia / b.radius**2
+            mass_sched = MassSchedule(np.array([dof_c]), np.array([dof_c]),
+                                      np.array([1.0 / b.radius]),
+                                      (th)[None, :], (extra + jj / b.radius**2)[None, :],
+                                      np.array([len(th)]))
+    ring_phase = {sd.stage: sd.sun_ring_phase for sd in pd.stages}
+    cdamp = max([sd.sun_mesh.damping_ns_per_m for sd in pd.stages] + [0.0])
+    sys, idx = build_system(model, laws, drives, t_grid, force,
+                            (sim.rayleigh_alpha, sim.rayleigh_beta), sim.support_damping,
+                            cdamp, sim.contact_loss, ring_phase, mass_sched)
+    q0 = np.zeros(n)
+    v0 = rigid_velocity(model, sim.initial_speed_rpm)
+    # planet pin errors: offsets on the tangential planet-bearing springs, as a force
+    for sd in pd.stages:
+        if sd.pin_errors_m:
+            info = model.stages[sd.stage]
+            a = model.spring_vectors()
+            for i, e in enumerate(sd.pin_errors_m):
+                name = f"{info.bodies[f'planet{i + 1}']}.bearing.eta"
+                j = [k for k, s in enumerate(model.springs) if s.name == name][0]
+                sys.force[:, :] -= model.springs[j].k * (-e) * a[j]
+    return Prepared(model, sys, idx, q0, v0)
+
+
+def _udof(model: PlanetaryModel, body: str) -> str:
+    b = model.body(body)
+    return f"{b.name}.theta" if b.kind == "rotor" else f"{b.name}.u"
+
+
+def rigid_velocity(model: PlanetaryModel, speeds_rpm: dict[str, float]) -> np.ndarray:
+    """Velocity vector of a rigid-body motion with the given body speeds (rpm).
+
+    Least squares: zero deflection rate in every spring with stiffness (so supported DOFs stay
+    at rest) and the given speeds (weighted ×1000); free bodies without a speed stay at rest.
+    """
+    n = len(model.names)
+    if not speeds_rpm:
+        return np.zeros(n)
+    a = model.spring_vectors()
+    # every spring with stiffness (meshes, bearings, supports, shafts) stays undeformed
+    rows = [a[i] for i, s in enumerate(model.springs) if s.k > 0]
+    rhs = [0.0] * len(rows)
+    for body, rpm in speeds_rpm.items():
+        b = model.body(body)
+        rows.append(model.rotation_vector(b.name) * 1e3)
+        rhs.append(rpm * RPM * 1e3)
+    sol, *_ = np.linalg.lstsq(np.array(rows), np.array(rhs), rcond=None)
+    return sol

@@ -1,0 +1,610 @@
+"""Time integration of M q̈ + C q̇ + K(t, q) q = F(t, q, q̇) with numba-compiled kernels.
+
+Generic interface (any lumped model, not only planetary): constant M₀, C₀, K₀ plus
+
+- *variable springs* (:class:`VarSprings`): rank-one springs with deflection δ = aᵀq + e,
+  stiffness k(X) and displacement error e(X) tabulated periodically over a coordinate
+  X = bᵀq + X₀ (mesh cycles for gear meshes, so the mesh phase follows the integrated body
+  angles), viscous damping c along a, optional contact loss (k = c = 0 when δ < 0);
+- *torque elements* (:class:`Drives`): speed–torque curves (motors), fluid couplings, speed-
+  squared loads with an angle schedule, imposed speed (stiff speed control);
+- a tabulated force history F(t) and an optional mass schedule M_ii(θ).
+
+Schemes: fixed-step Newmark (average acceleration γ = ½, β = ¼ by default) and HHT-α
+(Hilber-Hughes-Taylor 1977: β = (1+α)²/4, γ = ½ + α, α ∈ [0, ⅓]); the stiffness and the
+nonlinear forces are evaluated at the Newmark predictor (one linear solve per step).
+``method="adaptive"`` integrates with scipy's LSODA calling the same compiled right-hand side,
+and :func:`reference_rhs` is a plain-numpy right-hand side used to check the kernels.
+
+Divergence: a step producing non-finite values or |q| > ``q_limit`` stops the run; the result
+holds every step computed before it and a ``diagnosis`` naming the time and the DOF.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numba as nb
+import numpy as np
+
+# ---------------------------------------------------------------------------------------------
+# data containers (structure of arrays)
+
+
+@dataclass
+class VarSprings:
+    """Variable rank-one springs (SI: N/m, m, N·s/m; X in cycles of the tables)."""
+
+    a: np.ndarray  # (ns, n) deflection vectors
+    b: np.ndarray  # (ns, n) coordinate vectors, X = b·q + x0
+    x0: np.ndarray  # (ns,)
+    ktab: np.ndarray  # (ns, Lk) stiffness samples over one period
+    klen: np.ndarray  # (ns,) used samples
+    kper: np.ndarray  # (ns,) period of the k table in X units
+    etab: np.ndarray  # (ns, Le) error samples (m)
+    elen: np.ndarray
+    eper: np.ndarray
+    c: np.ndarray  # (ns,) damping
+    contact_loss: np.ndarray  # (ns,) int8
+
+    @staticmethod
+    def empty(n: int) -> VarSprings:
+        z = np.zeros((0, n))
+        e = np.zeros(0)
+        return VarSprings(z, z.copy(), e, np.zeros((0, 1)), np.zeros(0, np.int64), e.copy(),
+                          np.zeros((0, 1)), np.zeros(0, np.int64), e.copy(), e.copy(),
+                          np.zeros(0, np.int8))
+
+    @staticmethod
+    def build(rows: list[dict], n: int) -> VarSprings:
+        """From dicts with keys a, b, x0, k (array over one period), k_period, e, e_period, c,
+        contact_loss."""
+        if not rows:
+            return VarSprings.empty(n)
+        lk = max(len(r["k"]) for r in rows)
+        le = max(len(r.get("e", [0.0])) for r in rows)
+        ns = len(rows)
+        out = VarSprings(
+            np.array([r["a"] for r in rows], float),
+            np.array([r["b"] for r in rows], float),
+            np.array([r.get("x0", 0.0) for r in rows], float),
+            np.zeros((ns, lk)),
+            np.array([len(r["k"]) for r in rows], np.int64),
+            np.array([r.get("k_period", 1.0) for r in rows], float),
+            np.zeros((ns, le)),
+            np.array([len(r.get("e", [0.0])) for r in rows], np.int64),
+            np.array([r.get("e_period", 1.0) for r in rows], float),
+            np.array([r.get("c", 0.0) for r in rows], float),
+            np.array([1 if r.get("contact_loss", False) else 0 for r in rows], np.int8),
+        )
+        for i, r in enumerate(rows):
+            out.ktab[i, : len(r["k"])] = r["k"]
+            e = np.asarray(r.get("e", [0.0]), float)
+            out.etab[i, : len(e)] = e
+        return out
+
+
+SPEED_TORQUE, FLUID_COUPLING, SPEED_SQUARED_LOAD, SPEED_CONTROL = 0, 1, 2, 3
+
+
+@dataclass
+class Drives:
+    """Torque elements (SoA). ``ha``/``hb`` convert DOF velocity to rad/s and torque to force
+    (1/r for u = rθ coordinates, 1 for angle coordinates).
+
+    - type 0 speed–torque source on a: T = table(ω_a) (x: rad/s, y: N·m), +T on a;
+    - type 1 fluid coupling a (motor) → b through ratio p1 (ω_b,in = p1 ω_b):
+      T = p0 ω_a (ω_a − p1 ω_b) (seed 004 eq 6.6), −T on a, +p1 T on b;
+    - type 2 load: T = p0 ω_a² s(θ_a) for ω_a > 0 (table x: θ rad, y: factor), −T on a;
+    - type 3 speed control: T = p0 (θ_ref(t) − θ_a) + p1 (ω_ref(t) − ω_a) (table x: t, y: θ_ref).
+    """
+
+    kind: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    ha: np.ndarray
+    hb: np.ndarray
+    p0: np.ndarray
+    p1: np.ndarray
+    tx: np.ndarray
+    ty: np.ndarray
+    tlen: np.ndarray
+
+    @staticmethod
+    def build(rows: list[dict]) -> Drives:
+        ln = max([len(r.get("x", [0.0])) for r in rows] + [1])
+        ne = len(rows)
+        d = Drives(
+            np.array([r["kind"] for r in rows], np.int64),
+            np.array([r["a"] for r in rows], np.int64),
+            np.array([r.get("b", 0) for r in rows], np.int64),
+            np.array([r.get("ha", 1.0) for r in rows], float),
+            np.array([r.get("hb", 1.0) for r in rows], float),
+            np.array([r.get("p0", 0.0) for r in rows], float),
+            np.array([r.get("p1", 0.0) for r in rows], float),
+            np.zeros((ne, ln)),
+            np.zeros((ne, ln)),
+            np.array([len(r.get("x", [0.0])) for r in rows], np.int64),
+        )
+        for i, r in enumerate(rows):
+            x = np.asarray(r.get("x", [0.0]), float)
+            d.tx[i, : len(x)] = x
+            d.ty[i, : len(x)] = np.asarray(r.get("y", [0.0]), float)
+        return d
+
+
+@dataclass
+class MassSchedule:
+    """M_ii = table(θ_ctrl) with θ_ctrl = h·q_ctrl (e.g. carrier + bucket-wheel inertia)."""
+
+    dof: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    ctrl: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    h: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    tx: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    ty: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    tlen: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+
+
+@dataclass
+class LinearSystem:
+    """Everything the kernels need (SI units)."""
+
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    springs: VarSprings
+    drives: Drives
+    force_t: np.ndarray  # (nt,) time grid of the force table (uniform)
+    force: np.ndarray  # (nt, n)
+    mass_schedule: MassSchedule = field(default_factory=MassSchedule)
+    dof_names: list[str] | None = None
+
+    @property
+    def n(self) -> int:
+        return self.M.shape[0]
+
+
+# ---------------------------------------------------------------------------------------------
+# compiled pieces
+
+
+@nb.njit(cache=True)
+def _interp(x: float, xs: np.ndarray, ys: np.ndarray, n: int) -> float:
+    if n == 1:
+        return ys[0]
+    if x <= xs[0]:
+        return ys[0]
+    if x >= xs[n - 1]:
+        return ys[n - 1]
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xs[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    w = (x - xs[lo]) / (xs[hi] - xs[lo])
+    return ys[lo] * (1 - w) + ys[hi] * w
+
+
+@nb.njit(cache=True)
+def _periodic(x: float, tab: np.ndarray, n: int, period: float) -> float:
+    if n == 1:
+        return tab[0]
+    s = (x / period) % 1.0 * n
+    i = int(math.floor(s))
+    w = s - i
+    i = i % n
+    j = (i + 1) % n
+    return tab[i] * (1 - w) + tab[j] * w
+
+
+@nb.njit(cache=True)
+def _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kout, eout, dout):
+    ns = sa.shape[0]
+    n = q.shape[0]
+    for e in range(ns):
+        x = sx0[e]
+        d = 0.0
+        for j in range(n):
+            x += sb[e, j] * q[j]
+            d += sa[e, j] * q[j]
+        k = _periodic(x, ktab[e], klen[e], kper[e])
+        er = _periodic(x, etab[e], elen[e], eper[e])
+        d += er
+        if closs[e] == 1 and d < 0.0:
+            k = 0.0  # contact lost (seed 004 eq 3.2)
+        kout[e] = k
+        eout[e] = er
+        dout[e] = d
+
+
+@nb.njit(cache=True)
+def _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f):
+    for i in range(dk.shape[0]):
+        a = da[i]
+        wa = v[a] * dha[i]
+        k = dk[i]
+        if k == 0:
+            tq = _interp(wa, dtx[i], dty[i], dtl[i])
+            f[a] += tq * dha[i]
+        elif k == 1:
+            # linearised about (v_a, v_b) by _assemble: here T* minus the C v* part
+            b = db[i]
+            wb = v[b] * dhb[i] * dp1[i]
+            tq = dp0[i] * wa * (wa - wb)
+            ga = dp0[i] * (2.0 * wa - wb)
+            gb = -dp0[i] * wa
+            lin = ga * wa + gb * wb
+            f[a] -= (tq - lin) * dha[i]
+            f[b] += (tq - lin) * dp1[i] * dhb[i]
+        elif k == 2:
+            if wa > 0.0:
+                th = q[a] * dha[i]
+                tq = dp0[i] * wa * wa * _interp(th, dtx[i], dty[i], dtl[i])
+                f[a] -= tq * dha[i]
+        elif k == 3:
+            # linear in (q, v): the k θ and c ω parts go into K and C (see _assemble)
+            n = dtl[i]
+            th_ref = _interp(t, dtx[i], dty[i], n)
+            h = 1e-6 * (dtx[i, n - 1] - dtx[i, 0] + 1.0)
+            w_ref = _interp(t + h, dtx[i], dty[i], n) - _interp(t - h, dtx[i], dty[i], n)
+            w_ref /= 2 * h
+            f[a] += (dp0[i] * th_ref + dp1[i] * w_ref) * dha[i]
+
+
+@nb.njit(cache=True)
+def _force_table(t, ft, fv, f):
+    nt = ft.shape[0]
+    n = f.shape[0]
+    if nt == 0:
+        for j in range(n):
+            f[j] = 0.0
+        return
+    if nt == 1 or t <= ft[0]:
+        for j in range(n):
+            f[j] = fv[0, j]
+        return
+    if t >= ft[nt - 1]:
+        for j in range(n):
+            f[j] = fv[nt - 1, j]
+        return
+    s = (t - ft[0]) / (ft[1] - ft[0])
+    i = int(math.floor(s))
+    if i >= nt - 1:
+        i = nt - 2
+    w = s - i
+    for j in range(n):
+        f[j] = fv[i, j] * (1 - w) + fv[i + 1, j] * w
+
+
+@nb.njit(cache=True)
+def _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+              dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+              md, mc, mh, mtx, mty, mtl, M, C, K, f, kout, eout, dout):
+    """M, C, K at state (q, v, t) and the right-hand side f = F − Σ k e a (seed 004 eq 3.41)."""
+    n = q.shape[0]
+    M[:, :] = M0
+    C[:, :] = C0
+    K[:, :] = K0
+    for i in range(md.shape[0]):
+        M[md[i], md[i]] = _interp(q[mc[i]] * mh[i], mtx[i], mty[i], mtl[i])
+    _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kout, eout, dout)
+    _force_table(t, ft, fv, f)
+    _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
+    for i in range(dk.shape[0]):
+        if dk[i] == 3:
+            a = da[i]
+            K[a, a] += dp0[i] * dha[i] * dha[i]
+            C[a, a] += dp1[i] * dha[i] * dha[i]
+        elif dk[i] == 1:
+            # fluid coupling T = q ω_a (ω_a − ω_b'), ω_b' = p1 h_b v_b, linearised (implicit)
+            a = da[i]
+            b = db[i]
+            wa = v[a] * dha[i]
+            wb = v[b] * dhb[i] * dp1[i]
+            ga = dp0[i] * (2.0 * wa - wb)
+            gb = -dp0[i] * wa
+            hb = dp1[i] * dhb[i]
+            C[a, a] += ga * dha[i] * dha[i]
+            C[a, b] += gb * hb * dha[i]
+            C[b, a] -= hb * ga * dha[i]
+            C[b, b] -= hb * gb * hb
+    for e in range(sa.shape[0]):
+        k = kout[e]
+        ce = sc[e]
+        if closs[e] == 1 and dout[e] < 0.0:
+            k = 0.0
+            ce = 0.0
+        if k == 0.0 and ce == 0.0:
+            continue
+        for i in range(n):
+            ai = sa[e, i]
+            if ai == 0.0:
+                continue
+            f[i] -= k * eout[e] * ai
+            for j in range(n):
+                aj = sa[e, j]
+                if aj != 0.0:
+                    K[i, j] += k * ai * aj
+                    C[i, j] += ce * ai * aj
+
+
+@nb.njit(cache=True)
+def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+                    dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                    md, mc, mh, mtx, mty, mtl,
+                    q0, v0, t0, dt, nsteps, save_every, alpha, qlim,
+                    Q, V, KS, DS, TS):
+    """Fixed-step HHT-α/Newmark; returns (steps done, status, offending DOF)."""
+    n = q0.shape[0]
+    ns = sa.shape[0]
+    beta = (1.0 + alpha) ** 2 / 4.0
+    gamma = 0.5 + alpha
+    q = q0.copy()
+    v = v0.copy()
+    M = np.empty((n, n))
+    C = np.empty((n, n))
+    K = np.empty((n, n))
+    f = np.empty(n)
+    kout = np.empty(ns)
+    eout = np.empty(ns)
+    dout = np.empty(ns)
+    _assemble(q, v, t0, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+              dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
+              M, C, K, f, kout, eout, dout)
+    r0 = f - C @ v - K @ q
+    acc = np.linalg.solve(M, r0)
+    Q[0] = q
+    V[0] = v
+    KS[0] = kout
+    DS[0] = dout
+    TS[0] = t0
+    isave = 1
+    for step in range(1, nsteps + 1):
+        t = t0 + step * dt
+        qp = q + dt * v + dt * dt * (0.5 - beta) * acc
+        vp = v + dt * (1.0 - gamma) * acc
+        _assemble(qp, vp, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc,
+                  closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                  md, mc, mh, mtx, mty, mtl, M, C, K, f, kout, eout, dout)
+        lhs = M + (1.0 - alpha) * (gamma * dt * C + beta * dt * dt * K)
+        rhs = (1.0 - alpha) * (f - C @ vp - K @ qp) + alpha * r0
+        acc_new = np.linalg.solve(lhs, rhs)
+        # HHT: r0 for the next step is the residual force at n+1 (without inertia)
+        q = qp + beta * dt * dt * acc_new
+        v = vp + gamma * dt * acc_new
+        r0 = f - C @ v - K @ q
+        acc = acc_new
+        bad = -1
+        for j in range(n):
+            if not math.isfinite(q[j]) or abs(q[j]) > qlim:
+                bad = j
+                break
+        if bad >= 0:
+            return step - 1, 1, bad
+        if step % save_every == 0:
+            Q[isave] = q
+            V[isave] = v
+            KS[isave] = kout
+            DS[isave] = dout
+            TS[isave] = t
+            isave += 1
+    return nsteps, 0, -1
+
+
+@nb.njit(cache=True)
+def _rhs_kernel(t, y, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+                dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl):
+    n = M0.shape[0]
+    ns = sa.shape[0]
+    q = y[:n].copy()
+    v = y[n:].copy()
+    M = np.empty((n, n))
+    C = np.empty((n, n))
+    K = np.empty((n, n))
+    f = np.empty(n)
+    kout = np.empty(ns)
+    eout = np.empty(ns)
+    dout = np.empty(ns)
+    _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+              dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
+              M, C, K, f, kout, eout, dout)
+    out = np.empty(2 * n)
+    out[:n] = v
+    out[n:] = np.linalg.solve(M, f - C @ v - K @ q)
+    return out
+
+
+def _args(sys: LinearSystem) -> tuple:
+    s, d, m = sys.springs, sys.drives, sys.mass_schedule
+    return (
+        np.ascontiguousarray(sys.M, float), np.ascontiguousarray(sys.C, float),
+        np.ascontiguousarray(sys.K, float),
+        s.a, s.b, s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper, s.c, s.contact_loss,
+        d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen,
+        np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float),
+        m.dof, m.ctrl, m.h, m.tx, m.ty, m.tlen,
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# drivers
+
+
+@dataclass
+class IntegrationResult:
+    """Saved states; ``status`` is ``"ok"`` or ``"diverged"`` with a ``diagnosis``."""
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    k: np.ndarray  # variable-spring stiffness at saved steps
+    delta: np.ndarray  # variable-spring deflection (incl. error) at saved steps
+    status: str
+    diagnosis: str
+    wall_s: float
+
+
+def newmark(
+    sys: LinearSystem,
+    q0: np.ndarray,
+    v0: np.ndarray,
+    t_end: float,
+    dt: float,
+    save_every: int = 1,
+    alpha: float = 0.0,
+    t0: float = 0.0,
+    q_limit: float = 1e6,
+    progress: Callable[[float], None] | None = None,
+    chunk_steps: int = 20000,
+) -> IntegrationResult:
+    """Fixed-step Newmark (α = 0, average acceleration) or HHT-α (0 < α ≤ ⅓) integration.
+
+    The run is cut into chunks so that ``progress(fraction)`` can be reported; a divergence
+    (non-finite or |q| > ``q_limit``) stops it and keeps what was computed.
+    """
+    if not 0.0 <= alpha <= 1.0 / 3.0:
+        raise ValueError(f"HHT alpha {alpha} must be in [0, 1/3]")
+    if dt <= 0 or t_end <= t0:
+        raise ValueError("dt must be > 0 and t_end > t0")
+    args = _args(sys)
+    nsteps = int(round((t_end - t0) / dt))
+    save_every = max(1, int(save_every))
+    chunk = max(save_every, (chunk_steps // save_every) * save_every)
+    ts, qs, vs, ks, ds = [], [], [], [], []
+    q, v, t = np.asarray(q0, float).copy(), np.asarray(v0, float).copy(), t0
+    done = 0
+    status, diag = "ok", ""
+    w0 = time.perf_counter()
+    first = True
+    while done < nsteps:
+        m = min(chunk, nsteps - done)
+        nsave = m // save_every + 1
+        ns = sys.springs.a.shape[0]
+        Q = np.zeros((nsave, sys.n))
+        V = np.zeros((nsave, sys.n))
+        KS = np.zeros((nsave, ns))
+        DS = np.zeros((nsave, ns))
+        TS = np.zeros(nsave)
+        steps, code, bad = _newmark_kernel(*args, q, v, t, dt, m, save_every, alpha, q_limit,
+                                           Q, V, KS, DS, TS)
+        kept = steps // save_every + 1
+        sl = slice(0 if first else 1, kept)
+        ts.append(TS[sl])
+        qs.append(Q[sl])
+        vs.append(V[sl])
+        ks.append(KS[sl])
+        ds.append(DS[sl])
+        first = False
+        if code != 0:
+            tb = t + (steps + 1) * dt
+            name = sys.dof_names[bad] if sys.dof_names else f"#{bad}"
+            status = "diverged"
+            diag = (
+                f"diverged at t = {tb:.6g} s: DOF '{name}' became non-finite or exceeded "
+                f"{q_limit:g}; results kept up to t = {t + steps * dt:.6g} s. Reduce dt, add "
+                "damping, or check for negative/unsupported stiffness and unbounded loads."
+            )
+            break
+        q, v, t = Q[kept - 1].copy(), V[kept - 1].copy(), TS[kept - 1]
+        done += m
+        if progress is not None:
+            progress(done / nsteps)
+    return IntegrationResult(
+        np.concatenate(ts), np.concatenate(qs), np.concatenate(vs), np.concatenate(ks),
+        np.concatenate(ds), status, diag, time.perf_counter() - w0,
+    )
+
+
+def compiled_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray]:
+    """First-order right-hand side y' = f(t, y) (y = [q, v]) using the compiled kernels."""
+    args = _args(sys)
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        return _rhs_kernel(t, y, *args)
+
+    return rhs
+
+
+def adaptive(sys: LinearSystem, q0: np.ndarray, v0: np.ndarray, t_eval: np.ndarray,
+             rtol: float = 1e-6, atol: float = 1e-12, method: str = "LSODA") -> IntegrationResult:
+    """Adaptive-step integration (scipy ``solve_ivp``) of the compiled right-hand side."""
+    from scipy.integrate import solve_ivp
+
+    w0 = time.perf_counter()
+    sol = solve_ivp(compiled_rhs(sys), (t_eval[0], t_eval[-1]), np.concatenate([q0, v0]),
+                    method=method, t_eval=t_eval, rtol=rtol, atol=atol)
+    n = sys.n
+    y = sol.y.T
+    ns = sys.springs.a.shape[0]
+    status = "ok" if sol.success else "diverged"
+    return IntegrationResult(sol.t, y[:, :n], y[:, n:], np.full((len(sol.t), ns), np.nan),
+                             np.full((len(sol.t), ns), np.nan), status,
+                             "" if sol.success else str(sol.message), time.perf_counter() - w0)
+
+
+def reference_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray]:
+    """Plain Python/numpy right-hand side of the same model (the benchmark's baseline and an
+    independent check of the kernels; written from the equations, not from the kernels)."""
+    s, d, ms = sys.springs, sys.drives, sys.mass_schedule
+    n = sys.n
+
+    def periodic(x: float, tab: np.ndarray, ln: int, per: float) -> float:
+        if ln == 1:
+            return float(tab[0])
+        xs = np.arange(ln + 1) * per / ln
+        ys = np.append(tab[:ln], tab[0])
+        return float(np.interp(x % per, xs, ys))
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        q, v = y[:n], y[n:]
+        M = sys.M.copy()
+        for i in range(len(ms.dof)):
+            ln = ms.tlen[i]
+            M[ms.dof[i], ms.dof[i]] = np.interp(q[ms.ctrl[i]] * ms.h[i], ms.tx[i, :ln],
+                                                ms.ty[i, :ln])
+        K = sys.K.copy()
+        C = sys.C.copy()
+        if len(sys.force_t):
+            f = np.array([np.interp(t, sys.force_t, sys.force[:, j]) for j in range(n)])
+        else:
+            f = np.zeros(n)
+        for e in range(s.a.shape[0]):
+            x = s.b[e] @ q + s.x0[e]
+            k = periodic(x, s.ktab[e], s.klen[e], s.kper[e])
+            er = periodic(x, s.etab[e], s.elen[e], s.eper[e])
+            delta = s.a[e] @ q + er
+            c = s.c[e]
+            if s.contact_loss[e] and delta < 0:
+                k, c = 0.0, 0.0
+            K += k * np.outer(s.a[e], s.a[e])
+            C += c * np.outer(s.a[e], s.a[e])
+            f -= k * er * s.a[e]
+        for i in range(len(d.kind)):
+            a = d.a[i]
+            ln = d.tlen[i]
+            wa = v[a] * d.ha[i]
+            if d.kind[i] == SPEED_TORQUE:
+                f[a] += np.interp(wa, d.tx[i, :ln], d.ty[i, :ln]) * d.ha[i]
+            elif d.kind[i] == FLUID_COUPLING:
+                b = d.b[i]
+                tq = d.p0[i] * wa * (wa - v[b] * d.hb[i] * d.p1[i])
+                f[a] -= tq * d.ha[i]
+                f[b] += tq * d.p1[i] * d.hb[i]
+            elif d.kind[i] == SPEED_SQUARED_LOAD:
+                if wa > 0:
+                    tq = d.p0[i] * wa**2 * np.interp(q[a] * d.ha[i], d.tx[i, :ln], d.ty[i, :ln])
+                    f[a] -= tq * d.ha[i]
+            elif d.kind[i] == SPEED_CONTROL:
+                tx, ty = d.tx[i, :ln], d.ty[i, :ln]
+                h = 1e-6 * (tx[-1] - tx[0] + 1.0)
+                wr = (np.interp(t + h, tx, ty) - np.interp(t - h, tx, ty)) / (2 * h)
+                tq = d.p0[i] * (np.interp(t, tx, ty) - q[a] * d.ha[i]) + d.p1[i] * (wr - wa)
+                f[a] += tq * d.ha[i]
+        return np.concatenate([v, np.linalg.solve(M, f - C @ v - K @ q)])
+
+    return rhs
