@@ -21,5 +21,6 @@ from geardyn.cli import analyze as _analyze  # noqa: E402,F401
 from geardyn.cli import demo as _demo  # noqa: E402,F401
 from geardyn.cli import kinematics as _kinematics  # noqa: E402,F401
 from geardyn.cli import stiffness as _stiffness  # noqa: E402,F401
+from geardyn.cli import transmission as _transmission  # noqa: E402,F401
 
 __all__ = ["app"]
