@@ -1,0 +1,137 @@
+"""FE transmission of seed 002 (issue 6): wall time of the ASC [360-430 rpm / 20 rev] and NSC
+[200-900 rpm / 300 rev] runs on one core, where the time goes, and the ratio against a
+straightforward ``scipy.integrate.solve_ivp`` implementation of the same equations (same
+compiled force kernels, numpy right-hand side) on a short run.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+EX = Path(__file__).resolve().parents[1] / "examples" / "seed002_transmission.toml"
+
+
+def _cfg(start: float, end: float, revs: float):
+    from geardyn.config.loader import load_config, parse_config
+
+    d = load_config(EX).model_dump(exclude_none=True)
+    d["transmission"]["speed_law"].update(start_rpm=start, end_rpm=end, revolutions=revs)
+    return parse_config(d)
+
+
+def _kernel_split(model, prep, n: int = 20000) -> dict[str, float]:
+    """µs per call of each part of one right-hand-side evaluation."""
+    from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+
+    q = prep.q0.copy()
+    v = np.zeros_like(q)
+    f = np.zeros_like(q)
+    diss = np.zeros(5)
+    bl = np.zeros(model.bearings.node.size)
+    mf = np.zeros(model.meshes.na.size)
+    ba, ma = model.bearings.args(), model.meshes.args()
+    out = {}
+    t0 = time.perf_counter()
+    for _ in range(n):
+        bearing_forces(q, v, f, diss, *ba, bl)
+    out["bearings_us"] = (time.perf_counter() - t0) / n * 1e6
+    t0 = time.perf_counter()
+    for _ in range(n):
+        mesh_forces(q, v, f, diss, *ma, mf)
+    out["meshes_us"] = (time.perf_counter() - t0) / n * 1e6
+    Minv = np.linalg.inv(model.M)
+    t0 = time.perf_counter()
+    for _ in range(n):
+        Minv @ (model.K @ q + prep.C @ v)
+    out["matvec_numpy_us"] = (time.perf_counter() - t0) / n * 1e6
+    return out
+
+
+def _solve_ivp_run(model, prep, duration: float) -> tuple[float, int]:
+    """Straightforward first-order form y = (q, v) with scipy's LSODA (stiff/non-stiff
+    switching) and the same kernels (constant drive torque = the static reaction)."""
+    from scipy.integrate import solve_ivp
+
+    from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+    from geardyn.models.transmission.simulate import speed_ratios
+
+    n = model.ndof
+    Minv = np.linalg.inv(model.M)
+    r = speed_ratios(model, "output")
+    w0 = 395 * np.pi / 30
+    v0 = np.zeros(n)
+    for s, ids in model.shaft_nodes.items():
+        for nd in ids:
+            v0[6 * nd + 5] = model.shaft_sign[s] * r[s] * w0
+    fext = np.zeros(n)
+    fext[6 * model.load_node + 5] = -model.node_sign(model.load_node) * model.load_torque
+    fext[6 * model.drive_node + 5] = model.load_torque * r["input"] ** -1 / 0.9
+    ba, ma = model.bearings.args(), model.meshes.args()
+    diss = np.zeros(5)
+    bl = np.zeros(model.bearings.node.size)
+    mf = np.zeros(model.meshes.na.size)
+    calls = [0]
+
+    def rhs(_t, y):
+        calls[0] += 1
+        q, v = y[:n], y[n:]
+        f = fext.copy()
+        bearing_forces(q, v, f, diss, *ba, bl)
+        mesh_forces(q, v, f, diss, *ma, mf)
+        return np.concatenate([v, Minv @ (f - model.K @ q - prep.C @ v)])
+
+    t0 = time.perf_counter()
+    solve_ivp(rhs, (0.0, duration), np.concatenate([prep.q0, v0]), method="LSODA",
+              rtol=1e-6, atol=1e-10)
+    return time.perf_counter() - t0, calls[0]
+
+
+def run() -> list[dict]:
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    from geardyn.models.transmission import build_model, prepare, simulate
+
+    rows: list[dict] = []
+    asc = _cfg(360.0, 430.0, 20.0)
+    model = build_model(asc)
+    t0 = time.perf_counter()
+    prep = prepare(model, "output")
+    t_prep = time.perf_counter() - t0
+    simulate(asc, revolutions=0.2, prepared=prep)  # numba warm-up / cache load
+    t0 = time.perf_counter()
+    ds = simulate(asc, prepared=prep)
+    t_asc = time.perf_counter() - t0
+    us_step = ds.attrs["wall_integrate_s"] / ds.attrs["steps"] * 1e6
+    rows.append({"case": "ASC 360-430 rpm / 20 rev", "target": "-", "measured_s": t_asc,
+                 "met": "", "steps": ds.attrs["steps"], "us_per_step": us_step,
+                 "simulated_s": float(ds.time[-1])})
+    nsc = _cfg(200.0, 900.0, 300.0)
+    t0 = time.perf_counter()
+    ds = simulate(nsc, prepared=prep)
+    t_nsc = time.perf_counter() - t0
+    rows.append({"case": "NSC 200-900 rpm / 300 rev", "target": "<= 600 s",
+                 "measured_s": t_nsc, "met": t_nsc <= 600.0, "steps": ds.attrs["steps"],
+                 "us_per_step": ds.attrs["wall_integrate_s"] / ds.attrs["steps"] * 1e6,
+                 "simulated_s": float(ds.time[-1])})
+    rows.append({"case": "prepare (static Newton + FD Jacobian + eig)", "target": "-",
+                 "measured_s": t_prep, "met": ""})
+    split = _kernel_split(model, prep)
+    for k, v in split.items():
+        rows.append({"case": f"per call: {k}", "target": "-", "measured_s": v * 1e-6,
+                     "met": "", "us_per_step": v})
+    dur = 0.005
+    t_ivp, calls = _solve_ivp_run(model, prep, dur)
+    n_ours = int(np.ceil(dur / (0.8 * prep.dt_stable)))
+    t0 = time.perf_counter()
+    simulate(_cfg(395.0, 395.0, 395.0 / 60 * dur), prepared=prep)
+    t_ours = time.perf_counter() - t0
+    rows.append({"case": f"solve_ivp LSODA, {dur * 1e3:.0f} ms simulated", "target": "reference",
+                 "measured_s": t_ivp, "met": "", "steps": calls})
+    rows.append({"case": f"geardyn explicit numba, {dur * 1e3:.0f} ms simulated",
+                 "target": "-", "measured_s": t_ours, "met": "", "steps": n_ours})
+    rows.append({"case": "speed-up vs solve_ivp", "target": "> 1", "measured_s": t_ivp / t_ours,
+                 "met": t_ivp > t_ours})
+    return rows
