@@ -458,7 +458,7 @@ def newmark(
     save_every: int = 1,
     alpha: float = 0.0,
     t0: float = 0.0,
-    q_limit: float = 1e6,
+    q_limit: float = 1e10,
     progress: Callable[[float], None] | None = None,
     chunk_steps: int = 20000,
 ) -> IntegrationResult:

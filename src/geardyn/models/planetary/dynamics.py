@@ -243,7 +243,7 @@ def to_dataset(model: PlanetaryModel, res: IntegrationResult, idx: list[int],
 
 def simulate(model: PlanetaryModel, sys: LinearSystem, idx: list[int], q0: np.ndarray,
              v0: np.ndarray, t_end: float, dt: float, save_every: int = 1, alpha: float = 0.0,
-             progress=None, q_limit: float = 1e3) -> xr.Dataset:
+             progress=None, q_limit: float = 1e10) -> xr.Dataset:
     """Newmark/HHT run of ``sys`` returned as an xarray Dataset (see :func:`to_dataset`)."""
     res = newmark(sys, q0, v0, t_end, dt, save_every=save_every, alpha=alpha,
                   progress=progress, q_limit=q_limit)
