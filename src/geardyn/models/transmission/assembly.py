@@ -17,6 +17,7 @@ from geardyn.bearings.hertz import ball_race_stiffness, reduced_modulus, roller_
 from geardyn.elements.beam import ShaftSection, timoshenko_element
 from geardyn.elements.disc import rigid_disc, solid_disc_properties
 from geardyn.errors import ConfigError, InputError
+from geardyn.gears.contact import johnson_modulus
 
 
 @dataclass
@@ -56,27 +57,29 @@ class Meshes:
     nb: np.ndarray
     V: np.ndarray
     nsl: np.ndarray
-    tab: np.ndarray
     tlen: np.ndarray
     npc: np.ndarray
     za: np.ndarray
     s: np.ndarray
     xi0: np.ndarray
-    w: np.ndarray
+    ks: np.ndarray
+    length: np.ndarray
+    rsum: np.ndarray
     rhoa: np.ndarray
     rhob: np.ndarray
     npair: np.ndarray
     that: np.ndarray
     mu: np.ndarray
     csf: np.ndarray
+    estar: np.ndarray
     geometry: list = field(default_factory=list)
     tables: list = field(default_factory=list)
 
     def args(self) -> tuple:
         return (
-            self.na, self.nb, self.V, self.nsl, self.tab, self.tlen, self.npc, self.za,
-            self.s, self.xi0, self.w, self.rhoa, self.rhob, self.npair, self.that, self.mu,
-            self.csf,
+            self.na, self.nb, self.V, self.nsl, self.tlen, self.npc, self.za, self.s,
+            self.xi0, self.ks, self.length, self.rsum, self.rhoa, self.rhob, self.npair,
+            self.that, self.mu, self.csf, self.estar,
         )
 
 
@@ -287,12 +290,14 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
     Mh = Meshes(
         names=[m.pair for m in t.meshes],
         na=np.zeros(nm, np.int64), nb=np.zeros(nm, np.int64), V=np.zeros((nm, smax, 12)),
-        nsl=np.array([m.slices for m in t.meshes], np.int64), tab=np.zeros((nm, nmax)),
+        nsl=np.array([m.slices for m in t.meshes], np.int64),
         tlen=np.zeros(nm, np.int64), npc=np.zeros(nm), za=np.zeros(nm), s=np.zeros(nm),
-        xi0=np.zeros(nm), w=np.zeros((nm, nmax, pmax)), rhoa=np.zeros((nm, nmax, pmax)),
+        xi0=np.zeros(nm), ks=np.zeros((nm, nmax, pmax)), length=np.zeros((nm, nmax, pmax)),
+        rsum=np.ones((nm, nmax, pmax)), rhoa=np.zeros((nm, nmax, pmax)),
         rhob=np.zeros((nm, nmax, pmax)), npair=np.zeros(nm, np.int64), that=np.zeros((nm, 3)),
         mu=np.array([m.friction_coefficient for m in t.meshes], float),
         csf=np.array([m.squeeze_film_ns_per_m for m in t.meshes], float),
+        estar=np.zeros(nm),
         geometry=geoms, tables=tabs,
     )
     for i, mc in enumerate(t.meshes):
@@ -305,14 +310,17 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         n = tb.total.size
         Mh.tlen[i] = n
         Mh.npc[i] = tb.n_per_cycle
-        Mh.tab[i, :n] = tb.total
-        Mh.npair[i] = tb.pair_stiffness.shape[1]
-        tot = np.where(tb.total > 0, tb.total, 1.0)
-        Mh.w[i, :n, : Mh.npair[i]] = tb.pair_stiffness / tot[:, None]
-        u = np.nan_to_num(tb.contact, nan=0.0)
+        npair = tb.pair_stiffness.shape[1]
+        Mh.npair[i] = npair
+        ks, length, u = _pair_tables(g, tb)
+        Mh.ks[i, :n, :npair] = ks
+        Mh.length[i, :n, :npair] = length
         tw = math.tan(g.working_pressure_angle)
-        Mh.rhoa[i, :n, : Mh.npair[i]] = g.base_radius[0] * tw + u
-        Mh.rhob[i, :n, : Mh.npair[i]] = g.base_radius[1] * tw - u
+        Mh.rhoa[i, :n, :npair] = g.base_radius[0] * tw + u
+        Mh.rhob[i, :n, :npair] = g.base_radius[1] * tw - u
+        Mh.rsum[i, :n, :npair] = Mh.rhoa[i, :n, :npair] + Mh.rhob[i, :n, :npair]
+        ma = g.a.material
+        Mh.estar[i] = johnson_modulus(ma.youngs_modulus, ma.poisson_ratio)
         # geometry: e from O_a to O_b, transverse LOA normal n, tangent t = z × n
         pa, pb = node_xyz[ia], node_xyz[ib]
         e = np.array([pb[0] - pa[0], pb[1] - pa[1], 0.0])
@@ -343,6 +351,28 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
     )
 
 
+def _pair_tables(g, tb) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # noqa: ANN001
+    """Per table sample and tooth pair: structural stiffness K_tot (N/m, the table's pair
+    stiffness without the constant Hertz compliance it contains), loaded face width L (m) and
+    LOA position u (m) for the Johnson law of seed 002 eq 9."""
+    from geardyn.gears.contact import hertz_compliance
+    from geardyn.gears.pe_stiffness import pair_compliance_curve
+
+    ma, mb = g.a.material, g.b.material
+    ch = hertz_compliance(ma.youngs_modulus, ma.poisson_ratio, mb.youngs_modulus, mb.poisson_ratio)
+    kp = tb.pair_stiffness
+    umid = 0.5 * (g.u_start + g.u_end)
+    u = np.where(np.isfinite(tb.contact), tb.contact, umid)
+    u = np.clip(u, g.u_start, g.u_end)
+    ugrid = np.linspace(g.u_start, g.u_end, 401)
+    kbar = np.interp(u, ugrid, 1.0 / pair_compliance_curve(g, ugrid))  # per unit width
+    length = np.where(kp > 0, np.minimum(kp / kbar, g.face_width), 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ks = np.where(kp > 0, 1.0 / (1.0 / kp - ch / np.maximum(length, 1e-12)), 0.0)
+    ks = np.where(np.isfinite(ks) & (ks > 0), ks, 0.0)
+    return ks, length, u
+
+
 def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Bearing + mesh forces (N, N·m) on every DOF at state (q, v)."""
     from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
@@ -358,7 +388,7 @@ def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray) ->
 
 def static_equilibrium(
     model: TransmissionModel, load_torque: float, q0: np.ndarray | None = None,
-    tol: float = 1e-10, max_iter: int = 200,
+    tol: float = 1e-10, max_iter: int = 500,
 ) -> np.ndarray:
     """Static deflection under ``load_torque`` (N·m, resisting, at the load node) with the
     drive node's θz held (Newton with a finite-difference Jacobian; seed 002 eq 3 at rest).
@@ -394,9 +424,24 @@ def static_equilibrium(
         big = np.abs(dq[trans]).max() if trans.any() else 0.0
         rot = np.abs(dq[~trans]).max() if (~trans).any() else 0.0
         alpha = min(1.0, 5e-6 / big if big > 0 else 1.0, 1e-4 / rot if rot > 0 else 1.0)
-        q[free] += alpha * dq
         if alpha == 1.0 and np.abs(dq).max() < tol:
+            q[free] += dq
             return q
+        # backtracking on the residual norm (contact entry/exit kinks)
+        # (when no shorter step lowers the residual, e.g. across a clearance, take the
+        # limited step)
+        r0 = np.linalg.norm(r)
+        step = alpha
+        for _ in range(12):
+            qt = q.copy()
+            qt[free] += step * dq
+            if np.linalg.norm(resid(qt)) < r0:
+                break
+            step *= 0.5
+        else:
+            qt = q.copy()
+            qt[free] += alpha * dq
+        q = qt
     raise InputError("static equilibrium did not converge (check clearances and loads)")
 
 

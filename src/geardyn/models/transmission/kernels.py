@@ -13,10 +13,13 @@ torque T = c_rr (d_m/2) Σ Q_j (sign opposing rotation) and viscous torque α_be
 §3.1). Outer-race spall: over its angular length the contact deflection loses the spall depth.
 
 Gear meshes (seed 002 §2.2-2.4): K slices across the face; slice deflection
-δ_k = V_k · (q_a, q_b) − e_k, the linearised form of eqs 4-5 (θz enters as r_b θz, exact for
-the full rotation since r_b,a/r_b,b = z_a/z_b); force F_k = (k(ξ)/K) max(δ_k, 0) with k(ξ) the
-mesh stiffness table of :func:`geardyn.gears.mesh_stiffness` at the mesh phase
-ξ = z_a s θz,a /(2π) + ξ₀; squeeze-film damping (α_eng/K) δ̇_k on slices in contact; Coulomb
+δ_k = V_k · (q_a, q_b), the linearised form of eqs 4-5 (θz enters as r_b θz, exact for
+the full rotation since r_b,a/r_b,b = z_a/z_b). For every tooth pair p in contact at the mesh
+phase ξ = z_a s θz,a /(2π) + ξ₀ (table of :func:`geardyn.gears.mesh_stiffness`, structural
+stiffness K_tot,p = the table's pair stiffness without its constant Hertz term), the slice
+force solves seed 002 eq 9, δ_k = F/(K_tot,p/K) + Johnson δ_c(F; L_p/K, E*, ΔR_p) (Newton,
+monotone from below since δ(F) is concave); squeeze-film damping (α_eng/K) δ̇_k on
+slices in contact; Coulomb
 friction μ F_p per tooth pair p (eq 10) along the profile tangent, regularised by
 tanh(v_s/v_reg), with pair load shares and contact positions from the same table.
 """
@@ -95,13 +98,36 @@ def bearing_forces(
 
 
 @njit(cache=True)
+def johnson_force(delta, ks, width, estar, rsum):  # pragma: no cover - compiled
+    """F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9)."""
+    if delta <= 0.0:
+        return 0.0
+    c = math.pi * width * estar
+    # start below the root (δ(F) is concave and increasing)
+    f = delta / (1.0 / ks + 2.0 / c)
+    for _ in range(60):
+        g = f / ks + f / c * (math.log(4.0 * c * rsum / f) - 1.0) - delta
+        if g <= 0.0:
+            break
+        f *= 0.5
+    for _ in range(30):
+        g = f / ks + f / c * (math.log(4.0 * c * rsum / f) - 1.0) - delta
+        dg = 1.0 / ks + (math.log(4.0 * c * rsum / f) - 2.0) / c
+        step = g / dg
+        f -= step
+        if abs(step) < 1e-10 * f:
+            break
+    return f
+
+
+@njit(cache=True)
 def mesh_forces(
     q, v, f, diss,
-    m_na, m_nb, m_V, m_nsl, m_tab, m_tlen, m_npc, m_za, m_s, m_xi0,
-    m_w, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_force,
+    m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0,
+    m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_force,
 ):  # pragma: no cover - compiled
     """Add gear-mesh forces to ``f``; diss[2] += friction power, diss[3] += squeeze-film
-    power; ``m_force[i]`` receives the total normal (transverse LOA) force of mesh i."""
+    power; ``m_force[i]`` receives the total normal (transverse LOA) contact force of mesh i."""
     for i in range(m_na.size):
         a0 = 6 * m_na[i]
         b0 = 6 * m_nb[i]
@@ -112,20 +138,54 @@ def mesh_forces(
         fr = pos - fl
         i0 = int(fl % n)
         i1 = (i0 + 1) % n
-        ktot = (1.0 - fr) * m_tab[i, i0] + fr * m_tab[i, i1]
-        inear = i0 if fr < 0.5 else i1
+        shift = 1 if i1 % int(m_npc[i]) == 0 else 0
         nsl = m_nsl[i]
-        ks = ktot / nsl
         cs = m_csf[i] / nsl
         ftot = 0.0
+        tx = m_that[i, 0]
+        ty = m_that[i, 1]
+        dut = (v[a0] - v[b0]) * tx + (v[a0 + 1] - v[b0 + 1]) * ty
+        wa = v[a0 + 5]
+        wb = v[b0 + 5]
         for k in range(nsl):
             d = 0.0
             dd = 0.0
             for m in range(6):
                 d += m_V[i, k, m] * q[a0 + m] + m_V[i, k, 6 + m] * q[b0 + m]
                 dd += m_V[i, k, m] * v[a0 + m] + m_V[i, k, 6 + m] * v[b0 + m]
-            if d > 0.0:
-                fk = ks * d
+            if d <= 0.0:
+                continue
+            fk = 0.0
+            for p in range(m_np[i]):
+                # column p is the pair that entered floor(ξ) − p mesh cycles ago; at a cycle
+                # boundary the next sample's columns are shifted by one. Interpolating the
+                # same pair (zero outside contact) keeps the force continuous in θ.
+                p1 = p + shift
+                k0 = m_ks[i, i0, p]
+                k1 = m_ks[i, i1, p1] if p1 < m_np[i] else 0.0
+                ks = (1.0 - fr) * k0 + fr * k1
+                if ks <= 0.0:
+                    continue
+                if k0 > 0.0:
+                    ii, pp = i0, p
+                else:
+                    ii, pp = i1, p1
+                fp = johnson_force(d, ks / nsl, m_len[i, ii, pp] / nsl, m_estar[i],
+                                   m_rsum[i, ii, pp])
+                fk += fp
+                if m_mu[i] > 0.0:
+                    ra = m_rhoa[i, ii, pp]
+                    rb = m_rhob[i, ii, pp]
+                    vs = dut + wa * ra + wb * rb
+                    ff = m_mu[i] * fp * math.tanh(vs / V_REG)
+                    f[a0] -= ff * tx
+                    f[a0 + 1] -= ff * ty
+                    f[b0] += ff * tx
+                    f[b0 + 1] += ff * ty
+                    f[a0 + 5] -= ff * ra
+                    f[b0 + 5] -= ff * rb
+                    diss[2] += ff * vs
+            if fk > 0.0:
                 ftot += fk
                 fv = cs * dd
                 diss[3] += fv * dd
@@ -134,24 +194,3 @@ def mesh_forces(
                     f[a0 + m] -= fk * m_V[i, k, m]
                     f[b0 + m] -= fk * m_V[i, k, 6 + m]
         m_force[i] = ftot
-        if m_mu[i] > 0.0 and ftot > 0.0:
-            tx = m_that[i, 0]
-            ty = m_that[i, 1]
-            dut = (v[a0] - v[b0]) * tx + (v[a0 + 1] - v[b0 + 1]) * ty
-            wa = v[a0 + 5]
-            wb = v[b0 + 5]
-            for p in range(m_np[i]):
-                w = m_w[i, inear, p]
-                if w <= 0.0:
-                    continue
-                ra = m_rhoa[i, inear, p]
-                rb = m_rhob[i, inear, p]
-                vs = dut + wa * ra + wb * rb
-                ff = m_mu[i] * w * ftot * math.tanh(vs / V_REG)
-                f[a0] -= ff * tx
-                f[a0 + 1] -= ff * ty
-                f[b0] += ff * tx
-                f[b0 + 1] += ff * ty
-                f[a0 + 5] -= ff * ra
-                f[b0 + 5] -= ff * rb
-                diss[2] += ff * vs
