@@ -105,3 +105,126 @@ def write_figures(ds: xr.Dataset, cfg, outdir: Path, shaft: str = "output",  # n
     plt.close(fig)
     paths.append(p)
     return paths
+
+
+def _cfg_variant(cfg, start_rpm: float, end_rpm: float, revs: float, spall: bool = False,  # noqa: ANN001, ANN202
+                 crack_m: float = 0.0):
+    from geardyn.config.loader import parse_config
+
+    d = cfg.model_dump(exclude_none=True)
+    d["transmission"]["speed_law"].update(start_rpm=start_rpm, end_rpm=end_rpm,
+                                          revolutions=revs)
+    if spall:
+        b = d["transmission"]["bearings"][0]
+        b["outer_spall"] = {"angle_deg": spall if not isinstance(spall, bool) else 0.0,
+                            "angular_length_deg": 360.0 / b["elements"] / 3, "depth_m": 100e-6}
+    if crack_m > 0:
+        low = next(g for g in d["gear_geometry"] if g["pair"] == "low")
+        low["cracks"] = [{"gear": "b", "tooth": 0, "depth_m": crack_m, "angle_deg": 45.0}]
+    return parse_config(d)
+
+
+def seed002_figures(cfg, outdir: Path, nsc: bool = True) -> list[Path]:  # noqa: ANN001
+    """The seed 002 figure set for the example transmission: ASC/NSC order spectra of the
+    low-speed shaft IAS (Figs 10-11), NSC angular spectrogram (Fig 9), healthy vs outer-race
+    spall (Fig 14) and vs root crack (Fig 16), cepstrum (Fig 19)."""
+    import math
+
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    from geardyn.bearings.frequencies import bearing_frequencies
+    from geardyn.models.transmission.assembly import build_model, static_equilibrium
+    from geardyn.models.transmission.simulate import simulate
+    from geardyn.signal.cepstrum import power_cepstrum
+    from geardyn.signal.spectra import angular_spectrogram, order_spectrum
+
+    outdir.mkdir(parents=True, exist_ok=True)
+    b0 = cfg.transmission.bearings[0]
+    bpfo = bearing_frequencies(1.0, 0.0, b0.elements, b0.element_diameter_m,
+                               b0.pitch_diameter_m).bpfo
+    # mesh orders on the output shaft of the example (low stage 42/55, high stage 31/53)
+    m_low = 55.0
+    m_high = 55.0 * 53.0 / 42.0
+    paths: list[Path] = []
+
+    def spec(ds):  # noqa: ANN001, ANN202
+        w = ias_angle_signal(ds, "output")
+        return w, order_spectrum(w - w.mean(), 1000)
+
+    def mark(ax, omax: float) -> None:  # noqa: ANN001
+        for k in range(1, int(omax / bpfo) + 1):
+            ax.axvline(k * bpfo, color="tab:green", lw=0.6, ls=":")
+        for mo, c in ((m_low, "tab:red"), (m_high, "tab:purple")):
+            ax.axvline(mo, color=c, lw=0.8, ls="--")
+            for s in (-2, -1, 1, 2):
+                ax.axvline(mo + s * bpfo, color=c, lw=0.5, ls=":")
+
+    def save(fig, name: str) -> None:  # noqa: ANN001
+        p = outdir / name
+        fig.savefig(p, dpi=110)
+        plt.close(fig)
+        paths.append(p)
+
+    asc = simulate(_cfg_variant(cfg, 360.0, 430.0, 20.0))
+    w_asc, s_asc = spec(asc)
+    runs = {"ASC [360-430 rpm / 20 rev]": s_asc}
+    if nsc:
+        nsc_ds = simulate(_cfg_variant(cfg, 200.0, 900.0, 300.0))
+        w_nsc, s_nsc = spec(nsc_ds)
+        runs["NSC [200-900 rpm / 300 rev]"] = s_nsc
+        m = angular_spectrogram(w_nsc - w_nsc.mean(), 1000, revs_per_segment=8.0)
+        fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
+        db = 20 * np.log10(np.maximum(m.values, m.values.max() * 1e-5))
+        ax.pcolormesh(m.angle.values, m.order.values, db, shading="auto", cmap="viridis")
+        ax.set_ylim(0, 150)
+        ax.set_xlabel("low-speed shaft angle [rev] (speed 200 → 900 rpm)")
+        ax.set_ylabel("order [ev/rev]")
+        ax.set_title("low-speed shaft IAS angular spectrogram, NSC (cf. seed 002 Fig 9)")
+        save(fig, "transmission_nsc_spectrogram.png")
+    fig, axs = plt.subplots(len(runs), 1, figsize=(10, 3.2 * len(runs)),
+                            constrained_layout=True, squeeze=False)
+    for ax, (name, s) in zip(axs[:, 0], runs.items(), strict=True):
+        ax.semilogy(s.order.values, s.values, lw=0.6, color="0.2")
+        mark(ax, 80)
+        ax.set_xlim(0, 80)
+        ax.set_title(f"low-speed shaft IAS order spectrum, {name} (cf. seed 002 Figs 10-11)")
+        ax.set_ylabel("amplitude [rad/s]")
+    axs[-1, 0].set_xlabel("order [ev/rev of the low-speed shaft]; green: BPFO harmonics, "
+                          "red/purple: low/high mesh ± BPFO")
+    save(fig, "transmission_asc_vs_nsc.png")
+    # faults (ASC): outer-race spall in the load direction, root crack on the 55-tooth wheel
+    model = build_model(cfg)
+    q = static_equilibrium(model, model.load_torque)
+    nd = model.node_of(b0.at.shaft, b0.at.node)
+    ang = math.degrees(math.atan2(q[6 * nd + 1], q[6 * nd]))
+    _, s_sp = spec(simulate(_cfg_variant(cfg, 360.0, 430.0, 20.0, spall=ang)))
+    _, s_cr = spec(simulate(_cfg_variant(cfg, 360.0, 430.0, 20.0, crack_m=0.001)))
+    for name, s_f, title in (("spall", s_sp, "outer-race spall on the low-speed ball bearing "
+                                                "(cf. seed 002 Fig 14)"),
+                             ("crack", s_cr, "root crack 1 mm on the 55-tooth wheel "
+                                             "(cf. seed 002 Fig 16)")):
+        fig, ax = plt.subplots(figsize=(10, 3.5), constrained_layout=True)
+        ax.semilogy(s_asc.order.values, s_asc.values, lw=0.6, color="tab:blue", label="healthy")
+        ax.semilogy(s_f.order.values, s_f.values, lw=0.6, color="tab:red", alpha=0.8,
+                    label=name)
+        if name == "spall":
+            mark(ax, 80)
+        else:
+            for k in range(1, 41):
+                ax.axvline(k, color="0.7", lw=0.3)
+        ax.set_xlim(0, 80)
+        ax.legend()
+        ax.set_title(f"low-speed shaft IAS, {title}")
+        ax.set_xlabel("order [ev/rev]")
+        save(fig, f"transmission_{name}.png")
+    fig, ax = plt.subplots(figsize=(10, 3.5), constrained_layout=True)
+    for s_w, lab in ((w_asc, "healthy"),):
+        cep = power_cepstrum(s_w - s_w.mean(), 1000.0)
+        ax.plot(cep.quefrency.values[5:3000], cep.values[5:3000], lw=0.6, label=lab)
+    ax.set_xlabel("quefrency [rev of the low-speed shaft]")
+    ax.set_title("IAS power cepstrum, ASC healthy")
+    save(fig, "transmission_cepstrum.png")
+    return paths
