@@ -99,24 +99,25 @@ def bearing_forces(
 
 @njit(cache=True)
 def johnson_force(delta, ks, width, estar, rsum):  # pragma: no cover - compiled
-    """F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9)."""
+    """F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9).
+
+    Newton on the concave increasing δ(F): after the first step the iterates approach the
+    root monotonically from below; the start uses ln(4π L E* ΔR/F) ≈ 13 (tooth loads)."""
     if delta <= 0.0:
         return 0.0
     c = math.pi * width * estar
-    # start below the root (δ(F) is concave and increasing)
-    f = delta / (1.0 / ks + 2.0 / c)
-    for _ in range(60):
-        g = f / ks + f / c * (math.log(4.0 * c * rsum / f) - 1.0) - delta
-        if g <= 0.0:
-            break
-        f *= 0.5
-    for _ in range(30):
-        g = f / ks + f / c * (math.log(4.0 * c * rsum / f) - 1.0) - delta
-        dg = 1.0 / ks + (math.log(4.0 * c * rsum / f) - 2.0) / c
-        step = g / dg
-        f -= step
-        if abs(step) < 1e-10 * f:
-            break
+    a = 4.0 * c * rsum
+    f = delta / (1.0 / ks + 12.0 / c)
+    for _ in range(40):
+        lg = math.log(a / f)
+        g = f / ks + f / c * (lg - 1.0) - delta
+        dg = 1.0 / ks + (lg - 2.0) / c
+        fn = f - g / dg
+        if fn <= 0.0:
+            fn = 0.1 * f
+        if abs(fn - f) < 1e-9 * f:
+            return fn
+        f = fn
     return f
 
 
