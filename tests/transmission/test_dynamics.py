@@ -130,3 +130,36 @@ def test_gear_crack_raises_integer_orders(data, healthy) -> None:
     # non-integer content (mesh orders) is unchanged
     for order in (55, HIGH_MESH):
         assert _peak(o, a1, order)[0] == pytest.approx(_peak(o, a0, order)[0], rel=0.1)
+
+
+def test_each_shaft_shows_its_ball_and_roller_bpfo(healthy) -> None:
+    """Own-shaft IAS orders: ball BPFO Z/2 (1 − D/d_m) = 4.627, roller 7.759 (outer rings
+    fixed, rotating inner rings, fixed-direction loads: only BPFO, seed 002 §4)."""
+    from geardyn.models.transmission.report import ias_angle_signal
+
+    ball = bearing_frequencies(1.0, 0.0, 11, 0.0127, 0.080).bpfo
+    roller = bearing_frequencies(1.0, 0.0, 18, 0.010, 0.0725).bpfo
+    for shaft in ("output", "intermediate", "input"):
+        w = ias_angle_signal(healthy, shaft)
+        sp = order_spectrum(w - w.mean(), 1000)
+        o, a = sp.order.values, sp.values
+        for order in (ball, roller):
+            pk, floor = _peak(o, a, order)
+            assert pk > 5 * floor, (shaft, order, pk / floor)
+
+
+def test_gear_spall_raises_integer_orders(data, healthy) -> None:
+    """100 µm spall on the pitch circle of a 55-tooth wheel tooth (half the face, a third of
+    the height, seed 002 §3.5.3): integer orders of the low-speed shaft rise."""
+    d = {**data}
+    gg = [dict(g) for g in d["gear_geometry"]]
+    low = next(g for g in gg if g["pair"] == "low")
+    low["spalls"] = [{"gear": "b", "tooth": 1, "radius_m": 0.0825, "radial_width_m": 0.0029,
+                      "depth_m": 100e-6, "axial_position_m": 0.0125,
+                      "axial_length_m": 0.0125}]
+    d["gear_geometry"] = gg
+    faulty = simulate(parse_config(d), revolutions=20.0)
+    o, a0 = _spectrum(healthy)
+    _, a1 = _spectrum(faulty)
+    gains = np.array([_peak(o, a1, k)[0] / _peak(o, a0, k)[0] for k in range(13, 32)])
+    assert np.median(gains) > 2.0, gains
