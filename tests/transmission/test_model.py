@@ -36,8 +36,9 @@ def test_static_mesh_force_and_te_match_gears_modules(model) -> None:
     """Under a constant load torque the mesh forces balance the torques (F = T / r_b) and the
     static mesh deflection equals the static transmission error of
     geardyn.gears.static_transmission_error (seed 002 eq 9 with the mesh-stiffness module's
-    structural stiffness, kinematic contact zone) at the loaded phase: spur stage within
-    0.1 %, helical stage within 5 % (5 FE slices vs the module's 20 lagged slices)."""
+    structural stiffness; spur stage with off-line-of-action contact, eq 11) at the loaded
+    phase: spur stage within 0.5 %, helical stage (kinematic zone) within 5 % (5 FE slices vs
+    the module's 20 lagged slices)."""
     from geardyn.gears import static_transmission_error
 
     t_load = 100.0
@@ -46,7 +47,7 @@ def test_static_mesh_force_and_te_match_gears_modules(model) -> None:
     f_low = t_load / gl.base_radius[1]
     f_high = f_low * gl.base_radius[0] / gh.base_radius[1]
     ste = [
-        static_transmission_error(gl, f_low * gl.base_radius[0], extended=False,
+        static_transmission_error(gl, f_low * gl.base_radius[0], extended=True,
                                   n_per_cycle=256),
         static_transmission_error(gh, f_high * gh.base_radius[0], extended=False,
                                   n_per_cycle=256),
@@ -57,7 +58,7 @@ def test_static_mesh_force_and_te_match_gears_modules(model) -> None:
         force, defl, xi = mesh_state(model, q)
         assert force[0] == pytest.approx(f_low, rel=1e-6)
         assert force[1] == pytest.approx(f_high, rel=1e-6)
-        for i, tol in ((0, 1e-3), (1, 0.05)):
+        for i, tol in ((0, 5e-3), (1, 0.05)):
             ref = np.interp(xi[i] % 1.0, ste[i].mesh_cycle, ste[i].ste, period=1.0)
             assert defl[i] == pytest.approx(ref, rel=tol), (i, xi[i])
         # helical stage: the input-shaft bearings (ball + roller flanges) carry F tan β_b

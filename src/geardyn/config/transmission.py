@@ -96,6 +96,9 @@ class MeshConfig(_Strict):
     friction_coefficient: float = Field(0.03, ge=0, le=0.5)
     squeeze_film_ns_per_m: float = Field(100.0, ge=0)
     table_points_per_cycle: int = Field(64, ge=8, le=1024)
+    off_line_of_action: bool = Field(
+        True, description="extended contact outside the path (seed 002 §2.5.1; spur pairs)"
+    )
 
 
 class TorqueConfig(_Strict):

@@ -72,6 +72,7 @@ class Meshes:
     mu: np.ndarray
     csf: np.ndarray
     estar: np.ndarray
+    gap: np.ndarray
     geometry: list = field(default_factory=list)
     tables: list = field(default_factory=list)
 
@@ -79,7 +80,7 @@ class Meshes:
         return (
             self.na, self.nb, self.V, self.nsl, self.tlen, self.npc, self.za, self.s,
             self.xi0, self.ks, self.length, self.rsum, self.rhoa, self.rhob, self.npair,
-            self.that, self.mu, self.csf, self.estar,
+            self.that, self.mu, self.csf, self.estar, self.gap,
         )
 
 
@@ -285,7 +286,7 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
                                    n_cycles=None if pm.faults else 1.0, faults=pm.faults))
         geoms.append(pm.geometry)
     nmax = max((tb.total.size for tb in tabs), default=1)
-    pmax = max((tb.pair_stiffness.shape[1] for tb in tabs), default=1)
+    pmax = max((tb.pair_stiffness.shape[1] + 2 for tb in tabs), default=1)
     smax = max((mc.slices for mc in t.meshes), default=1)
     Mh = Meshes(
         names=[m.pair for m in t.meshes],
@@ -297,7 +298,7 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         rhob=np.zeros((nm, nmax, pmax)), npair=np.zeros(nm, np.int64), that=np.zeros((nm, 3)),
         mu=np.array([m.friction_coefficient for m in t.meshes], float),
         csf=np.array([m.squeeze_film_ns_per_m for m in t.meshes], float),
-        estar=np.zeros(nm),
+        estar=np.zeros(nm), gap=np.zeros((nm, nmax, pmax)),
         geometry=geoms, tables=tabs,
     )
     for i, mc in enumerate(t.meshes):
@@ -310,9 +311,11 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         n = tb.total.size
         Mh.tlen[i] = n
         Mh.npc[i] = tb.n_per_cycle
-        npair = tb.pair_stiffness.shape[1]
+        ks, length, u, gap = _pair_tables(g, tb, pairs[mc.pair].corrections,
+                                          mc.off_line_of_action)
+        npair = ks.shape[1]
         Mh.npair[i] = npair
-        ks, length, u = _pair_tables(g, tb)
+        Mh.gap[i, :n, :npair] = gap
         Mh.ks[i, :n, :npair] = ks
         Mh.length[i, :n, :npair] = length
         tw = math.tan(g.working_pressure_angle)
@@ -351,26 +354,49 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
     )
 
 
-def _pair_tables(g, tb) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # noqa: ANN001
-    """Per table sample and tooth pair: structural stiffness K_tot (N/m, the table's pair
-    stiffness without the constant Hertz compliance it contains), loaded face width L (m) and
-    LOA position u (m) for the Johnson law of seed 002 eq 9."""
+def _pair_tables(g, tb, corrections=None, extended: bool = True):  # noqa: ANN001, ANN202
+    """Per table sample and tooth pair (columns = pair age −1 … P relative to floor(ξ)):
+    structural stiffness K_tot (N/m, the table's pair stiffness without the constant Hertz
+    compliance it contains), loaded face width L (m), LOA position u (m) and the no-load gap
+    (m): separation distance D of off-line-of-action contact (seed 002 eq 11, spur pairs,
+    up to 0.4 p_bt outside the path as in :func:`geardyn.gears.static_transmission_error`)
+    plus profile corrections δ_corr at mid-face (eq 12).
+
+    Off the path the stiffness is that of the path end (healthy), as in the loaded module."""
     from geardyn.gears.contact import hertz_compliance
+    from geardyn.gears.loaded import correction, separation_distance
     from geardyn.gears.pe_stiffness import pair_compliance_curve
 
     ma, mb = g.a.material, g.b.material
     ch = hertz_compliance(ma.youngs_modulus, ma.poisson_ratio, mb.youngs_modulus, mb.poisson_ratio)
-    kp = tb.pair_stiffness
-    umid = 0.5 * (g.u_start + g.u_end)
-    u = np.where(np.isfinite(tb.contact), tb.contact, umid)
-    u = np.clip(u, g.u_start, g.u_end)
+    n, npair = tb.pair_stiffness.shape
+    ncol = npair + 2
+    xi = tb.mesh_cycle
+    age = np.arange(-1, npair + 1)
+    # nominal mid-face LOA position of every column (helical: the table's mid slice)
+    lag = 0.5 * g.face_width * math.tan(abs(g.base_helix_angle))
+    u = g.u_start + (xi - np.floor(xi))[:, None] * g.base_pitch + age[None, :] * g.base_pitch
+    u = u - lag
+    kp = np.zeros((n, ncol))
+    kp[:, 1:-1] = tb.pair_stiffness
     ugrid = np.linspace(g.u_start, g.u_end, 401)
-    kbar = np.interp(u, ugrid, 1.0 / pair_compliance_curve(g, ugrid))  # per unit width
+    kbar_grid = 1.0 / pair_compliance_curve(g, ugrid)  # per unit width
+    uc = np.clip(u, g.u_start, g.u_end)
+    kbar = np.interp(uc, ugrid, kbar_grid)
+    gap = np.zeros((n, ncol))
+    ext = 0.4 * g.base_pitch if (extended and g.helix_angle == 0.0 and not g.internal) else 0.0
+    if ext > 0:
+        off = ((u < g.u_start) & (u >= g.u_start - ext)) | ((u > g.u_end) & (u <= g.u_end + ext))
+        kp = np.where(off & (kp == 0.0), kbar * g.face_width, kp)
+        gap = np.where(off, separation_distance(g, u.ravel()).reshape(u.shape), 0.0)
+    if corrections is not None:
+        gap = gap + correction(g, corrections, u, np.full_like(u, 0.5 * g.face_width))
     length = np.where(kp > 0, np.minimum(kp / kbar, g.face_width), 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         ks = np.where(kp > 0, 1.0 / (1.0 / kp - ch / np.maximum(length, 1e-12)), 0.0)
     ks = np.where(np.isfinite(ks) & (ks > 0), ks, 0.0)
-    return ks, length, u
+    gap = np.where(ks > 0, gap, 0.0)
+    return ks, length, uc, gap
 
 
 def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -125,7 +125,7 @@ def johnson_force(delta, ks, width, estar, rsum):  # pragma: no cover - compiled
 def mesh_forces(
     q, v, f, diss,
     m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0,
-    m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_force,
+    m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_force,
 ):  # pragma: no cover - compiled
     """Add gear-mesh forces to ``f``; diss[2] += friction power, diss[3] += squeeze-film
     power; ``m_force[i]`` receives the total normal (transverse LOA) contact force of mesh i."""
@@ -171,7 +171,14 @@ def mesh_forces(
                     ii, pp = i0, p
                 else:
                     ii, pp = i1, p1
-                fp = johnson_force(d, ks / nsl, m_len[i, ii, pp] / nsl, m_estar[i],
+                # no-load gap (separation distance off the path, profile corrections), seed
+                # 002 eqs 11-12; a pair missing from one sample keeps the other's gap
+                g0 = m_gap[i, i0, p] if k0 > 0.0 else m_gap[i, ii, pp]
+                g1 = m_gap[i, i1, p1] if k1 > 0.0 else m_gap[i, ii, pp]
+                dp = d - ((1.0 - fr) * g0 + fr * g1)
+                if dp <= 0.0:
+                    continue
+                fp = johnson_force(dp, ks / nsl, m_len[i, ii, pp] / nsl, m_estar[i],
                                    m_rsum[i, ii, pp])
                 fk += fp
                 if m_mu[i] > 0.0:
