@@ -163,3 +163,36 @@ def test_gear_spall_raises_integer_orders(data, healthy) -> None:
     _, a1 = _spectrum(faulty)
     gains = np.array([_peak(o, a1, k)[0] / _peak(o, a0, k)[0] for k in range(13, 32)])
     assert np.median(gains) > 2.0, gains
+
+
+def test_plain_torque_laws_accelerate_as_rigid_drive_line(data) -> None:
+    """Constant drive torque above the load: the mean acceleration of the drive line equals
+    (T_d − T_load·ω_out/ω_in − bearing torques referred to the input) / J_eq (rigid body)."""
+    from geardyn.models.transmission import build_model
+    from geardyn.models.transmission.simulate import speed_ratios
+
+    d = {**data, "transmission": {**data["transmission"]}}
+    d["transmission"].pop("speed_law")
+    d["transmission"]["drive"] = {**d["transmission"]["drive"], "torque_nm": 60.0}
+    d["transmission"]["simulation"] = {"duration_s": 0.05, "initial_rpm": 900.0}
+    cfg = parse_config(d)
+    ds = simulate(cfg)
+    m = build_model(cfg)
+    r = speed_ratios(m, "input")
+    v = np.zeros(m.ndof)
+    for s, ids in m.shaft_nodes.items():
+        for nd in ids:
+            v[6 * nd + 5] = m.shaft_sign[s] * r[s]
+    j_eq = float(v @ m.M @ v)  # referred to the input shaft
+    w = ds.speed.sel(shaft="input").values
+    t = ds.time.values
+    w_mean = 0.5 * (w[0] + w[-1])
+    visc = sum(m.bearings.visc[i] * r[s] ** 2 * w_mean
+               for i, s in enumerate(["output", "output", "intermediate", "intermediate",
+                                      "input", "input"]))
+    # gear friction and rolling resistance referred to the input, from their dissipated work
+    other = (ds.attrs["energy_gear_friction_J"] + ds.attrs["energy_rolling_resistance_J"]) / (
+        w_mean * t[-1])
+    expected = (60.0 - 100.0 * r["output"] - visc - other) / j_eq
+    slope = np.polyfit(t, w, 1)[0]
+    assert slope == pytest.approx(expected, rel=0.02)

@@ -123,6 +123,10 @@ class SimulationConfig(_Strict):
     revolutions: float | None = Field(
         None, gt=0, description="override of the speed-law revolutions (short runs)"
     )
+    duration_s: float | None = Field(None, gt=0, description="plain torque laws: duration")
+    initial_rpm: float | None = Field(
+        None, gt=0, description="plain torque laws: initial speed of the drive shaft"
+    )
 
 
 class TransmissionConfig(_Strict):

@@ -90,21 +90,35 @@ def simulate(
     model: TransmissionModel | None = None,
 ) -> xr.Dataset:
     """Run the speed law of ``cfg.transmission`` (``revolutions`` of the reference shaft
-    overrides the config). Returns time histories of every shaft's angle and speed at its
-    first node, drive torque, bearing loads, mesh forces; energy terms in ``attrs``."""
+    overrides the config), or, without a speed law, the plain torque laws (constant drive and
+    load torques) for ``simulation.duration_s`` from ``simulation.initial_rpm`` of the drive.
+
+    Returns time histories of every shaft's angle and speed at its first node, drive torque,
+    bearing loads, mesh forces; energy terms in ``attrs``."""
     t = cfg.transmission
-    if t.speed_law is None:
-        raise InputError("transmission.speed_law: required for a time simulation")
     sl = t.speed_law
     model = model or (prepared.model if prepared else build_model(cfg))
-    ref_shaft = sl.reference.shaft
+    if sl is None:
+        # plain torque laws: constant drive and load torques from an initial drive speed
+        if t.simulation.duration_s is None or t.simulation.initial_rpm is None:
+            raise InputError(
+                "transmission.simulation: without a speed_law, give duration_s and initial_rpm "
+                "(plain torque laws: constant drive.torque_nm and load.torque_nm)"
+            )
+        ref_shaft, ref_local = t.drive.at.shaft, t.drive.at.node
+    else:
+        ref_shaft, ref_local = sl.reference.shaft, sl.reference.node
     t0 = _time.perf_counter()
     prep = prepared or prepare(model, ref_shaft)
     t_prep = _time.perf_counter() - t0
-    ratios = prep.speed_ratio
-    n_rev = revolutions or t.simulation.revolutions or sl.revolutions
-    w0, w1 = sl.start_rpm * math.pi / 30, sl.end_rpm * math.pi / 30
-    duration = 2 * math.pi * n_rev / (0.5 * (w0 + w1))
+    ratios = speed_ratios(model, ref_shaft)
+    if sl is not None:
+        n_rev = revolutions or t.simulation.revolutions or sl.revolutions
+        w0, w1 = sl.start_rpm * math.pi / 30, sl.end_rpm * math.pi / 30
+        duration = 2 * math.pi * n_rev / (0.5 * (w0 + w1))
+    else:
+        w0 = w1 = t.simulation.initial_rpm * math.pi / 30
+        duration = t.simulation.duration_s
     dt = t.simulation.time_step_s or 0.8 * prep.dt_stable
     n_steps = int(math.ceil(duration / dt))
     rec_every = max(1, int(round(1.0 / (t.simulation.record_rate_hz * dt))))
@@ -113,22 +127,26 @@ def simulate(
     for s, ids in model.shaft_nodes.items():
         for nd in ids:
             v[6 * nd + 5] = model.shaft_sign[s] * ratios[s] * w0
-    # controller (bandwidth ω_c, damping 0.7) on the reference speed, actuating the drive
-    r = v / w0
-    j_eq = float(r @ model.M @ r)
     drive_shaft = t.drive.at.shaft
-    g = 1.0 / ratios[drive_shaft]
-    wc = 2 * math.pi * sl.bandwidth_hz
-    kp, ki = 2 * 0.7 * wc * j_eq * g, wc * wc * j_eq * g
-    losses = sum(
-        model.bearings.visc[i] * (ratios[_shaft_of(model, int(nd))] * w0) ** 2
-        for i, nd in enumerate(model.bearings.node)
-    )
-    t_drive0 = (model.load_torque * w0 + losses) / (ratios[drive_shaft] * w0)
-    t_drive0 += j_eq * g * (w1 - w0) / duration
+    if sl is not None:
+        # controller (bandwidth ω_c, damping 0.7) on the reference speed, actuating the drive
+        r = v / w0
+        j_eq = float(r @ model.M @ r)
+        g = 1.0 / ratios[drive_shaft]
+        wc = 2 * math.pi * sl.bandwidth_hz
+        kp, ki = 2 * 0.7 * wc * j_eq * g, wc * wc * j_eq * g
+        losses = sum(
+            model.bearings.visc[i] * (ratios[_shaft_of(model, int(nd))] * w0) ** 2
+            for i, nd in enumerate(model.bearings.node)
+        )
+        t_drive0 = (model.load_torque * w0 + losses) / (ratios[drive_shaft] * w0)
+        t_drive0 += j_eq * g * (w1 - w0) / duration
+    else:
+        kp = ki = 0.0
+        t_drive0 = model.drive_torque
     shafts = list(model.shaft_nodes)
     rec_dofs = np.array([6 * model.shaft_nodes[s][0] + 5 for s in shafts], dtype=np.int64)
-    ref_node = model.node_of(ref_shaft, sl.reference.node)
+    ref_node = model.node_of(ref_shaft, ref_local)
     Minv = np.linalg.inv(model.M)
     t1 = _time.perf_counter()
     rec, energy, n_done, status, q, vend, _ = run_loop(
