@@ -107,3 +107,21 @@ def test_config_errors_name_the_field(cfg) -> None:
     data["transmission"]["bearings"][0]["at"]["node"] = 9
     with pytest.raises(ConfigError, match=r"bearings\[0\].*node"):
         parse_config(data)
+
+
+def test_campbell_reduces_to_modes_at_rest_and_splits_with_speed(model) -> None:
+    from geardyn.models.transmission.assembly import campbell
+
+    p = prepare(model, "output")
+    r = speed_ratios(model, "output")
+    cd = campbell(model, p.K_lin, np.array([0.0, 900.0, 20000.0]), r, n_modes=10)
+    f_rest = p.frequencies_hz[p.frequencies_hz > 0.5][:10]
+    assert np.allclose(cd.sel(speed_rpm=0.0).values, f_rest, rtol=1e-6)
+    # gyroscopic coupling moves the frequencies with speed, but only slightly at 900 rpm
+    d900 = np.abs(cd.sel(speed_rpm=900.0).values / f_rest - 1)
+    d20k = np.abs(cd.sel(speed_rpm=20000.0).values / f_rest - 1)
+    assert d900.max() < 0.02
+    assert d20k.max() > d900.max()
+    # the gyroscopic matrices are skew-symmetric (no work)
+    for g in model.gyroscopic.values():
+        assert np.abs(g + g.T).max() == 0.0

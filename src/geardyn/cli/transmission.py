@@ -25,6 +25,9 @@ def transmission_cmd(
     netcdf: Path | None = typer.Option(None, "--netcdf", help="write the time histories"),
     plots: Path | None = typer.Option(None, "--plots", help="directory for IAS figures"),
     shaft: str = typer.Option("output", "--shaft", help="shaft for IAS figures"),
+    campbell_rpm: float | None = typer.Option(
+        None, "--campbell", help="Campbell table up to this reference-shaft speed (rpm)"
+    ),
 ) -> None:
     """Static preload, linearised modes and a speed-law run with IAS outputs."""
     from geardyn.models.transmission import build_model, prepare, simulate
@@ -44,6 +47,25 @@ def transmission_cmd(
         t.add_row(str(i), f"{f:.2f}")
     console.print(t)
     console.print(f"stable explicit step: {prep.dt_stable:.3e} s")
+    if campbell_rpm is not None:
+        import numpy as np
+
+        from geardyn.models.transmission.assembly import campbell
+        from geardyn.models.transmission.simulate import speed_ratios
+
+        if campbell_rpm <= 0:
+            raise ConfigError("--campbell must be > 0 rpm")
+        ref_c = ref or next(iter(model.shaft_nodes))
+        speeds = np.linspace(0.0, campbell_rpm, 5)
+        cd = campbell(model, prep.K_lin, speeds, speed_ratios(model, ref_c), n_modes=modes)
+        tc = Table(title=f"Campbell: whirl frequencies (Hz) vs speed of '{ref_c}' (rpm)",
+                   title_justify="left")
+        tc.add_column("mode", justify="right")
+        for sp in speeds:
+            tc.add_column(f"{sp:.0f}", justify="right")
+        for j in range(cd.sizes["mode"]):
+            tc.add_row(str(j), *[f"{x:.2f}" for x in cd.values[:, j]])
+        console.print(tc)
     if modes_only:
         return
     try:

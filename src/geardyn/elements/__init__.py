@@ -4,7 +4,19 @@ DOF order per node: (x, y, z, θx, θy, θz) with z the shaft axis; θz is the f
 section (rigid body + torsion, seed 002 §2.1).
 """
 
-from geardyn.elements.beam import ShaftSection, shear_coefficient, timoshenko_element
-from geardyn.elements.disc import rigid_disc
+from geardyn.elements.beam import (
+    ShaftSection,
+    shear_coefficient,
+    timoshenko_element,
+    timoshenko_gyroscopic,
+)
+from geardyn.elements.disc import disc_gyroscopic, rigid_disc
 
-__all__ = ["ShaftSection", "rigid_disc", "shear_coefficient", "timoshenko_element"]
+__all__ = [
+    "ShaftSection",
+    "disc_gyroscopic",
+    "rigid_disc",
+    "shear_coefficient",
+    "timoshenko_element",
+    "timoshenko_gyroscopic",
+]

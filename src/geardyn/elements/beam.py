@@ -8,7 +8,8 @@ Machines*, 2010, §5.4; Nelson 1980): stiffness
 
 and the consistent translational + rotary-inertia mass matrices with their Φ-dependent
 coefficients. Axial and torsional parts are the linear two-node rod elements. Gyroscopic
-terms are not included (see docs/transmission.md).
+matrix per unit spin speed: :func:`timoshenko_gyroscopic` (Nelson 1980: the rotary-inertia
+shape integrals with the polar density ρJ = 2ρI, skew between the two bending planes).
 
 Sign conventions: in the x–z plane θy = +dx/dz, in the y–z plane θx = −dy/dz.
 """
@@ -138,3 +139,30 @@ def timoshenko_element(length: float, section: ShaftSection) -> tuple[np.ndarray
     K[np.ix_(it, it)] += s.shear_modulus * s.polar_moment / L * rod
     M[np.ix_(it, it)] += s.density * s.polar_moment * L * rodm
     return K, M
+
+
+def timoshenko_gyroscopic(length: float, section: ShaftSection) -> np.ndarray:
+    """Gyroscopic matrix G (12×12, per rad/s of spin) of the element: M q̈ + Ω G q̇ + K q = 0.
+
+    The section's gyroscopic moments are (M_x, M_y) = ρJ Ω (θ̇y, −θ̇x) per unit length; with
+    θy = ψ_x and θx = −ψ_y interpolated like the rotary inertia, G couples the planes with
+    ±∫ρJ N_ψᵀ N_ψ dz = ±2 M_rotary (skew-symmetric)."""
+    L = length
+    s = section
+    E, I, A = s.youngs_modulus, s.second_moment, s.area
+    phi = 12.0 * E * I / (s.kappa * s.shear_modulus * A * L * L)
+    p2 = phi * phi
+    r1 = 6 / 5
+    r2 = (1 / 10 - phi / 2) * L
+    r3 = (2 / 15 + phi / 6 + p2 / 3) * L * L
+    r4 = (-1 / 30 - phi / 6 + p2 / 6) * L * L
+    Mr = (s.density * I / ((1 + phi) ** 2 * L)) * np.array(
+        [[r1, r2, -r1, r2], [r2, r3, -r2, r4], [-r1, -r2, r1, -r2], [r2, r4, -r2, r3]]
+    )
+    G = np.zeros((12, 12))
+    ix = [0, 4, 6, 10]
+    iy = [1, 3, 7, 9]
+    sg = np.array([1.0, -1.0, 1.0, -1.0])
+    G[np.ix_(ix, iy)] = 2.0 * Mr * sg[None, :]
+    G[np.ix_(iy, ix)] = -(2.0 * Mr * sg[:, None])
+    return G

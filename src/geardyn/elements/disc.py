@@ -31,3 +31,12 @@ def solid_disc_properties(
     ip = 0.5 * m * (outer_radius**2 + inner_radius**2)
     idia = 0.25 * m * (outer_radius**2 + inner_radius**2) + m * width**2 / 12.0
     return m, ip, idia
+
+
+def disc_gyroscopic(polar_inertia: float) -> np.ndarray:
+    """6×6 nodal gyroscopic matrix of a rigid disc per rad/s of spin: (θx, θy) rows
+    I_p [[0, 1], [−1, 0]]."""
+    g = np.zeros((6, 6))
+    g[3, 4] = polar_inertia
+    g[4, 3] = -polar_inertia
+    return g

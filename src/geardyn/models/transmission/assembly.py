@@ -14,8 +14,8 @@ import numpy as np
 from scipy.linalg import eigh
 
 from geardyn.bearings.hertz import ball_race_stiffness, reduced_modulus, roller_race_stiffness
-from geardyn.elements.beam import ShaftSection, timoshenko_element
-from geardyn.elements.disc import rigid_disc, solid_disc_properties
+from geardyn.elements.beam import ShaftSection, timoshenko_element, timoshenko_gyroscopic
+from geardyn.elements.disc import disc_gyroscopic, rigid_disc, solid_disc_properties
 from geardyn.errors import ConfigError, InputError
 from geardyn.gears.contact import johnson_modulus
 
@@ -101,6 +101,8 @@ class TransmissionModel:
     load_torque: float
     modal_damping: float
     C: np.ndarray | None = None
+    gyroscopic: dict[str, np.ndarray] = field(default_factory=dict)
+    """Per shaft: gyroscopic matrix (shaft elements + its wheels) per rad/s of that shaft."""
 
     @property
     def ndof(self) -> int:
@@ -211,10 +213,20 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
     ndof = 6 * n0
     K = np.zeros((ndof, ndof))
     M = np.zeros((ndof, ndof))
+    gyro: dict[str, np.ndarray] = {}
     for (k, m), s in zip(blocks, t.shafts, strict=True):
         a = 6 * shaft_nodes[s.name][0]
         K[a : a + k.shape[0], a : a + k.shape[0]] += k
         M[a : a + k.shape[0], a : a + k.shape[0]] += m
+        sec = ShaftSection(
+            s.outer_diameter_m, s.inner_diameter_m, s.youngs_modulus_pa, s.poisson_ratio,
+            s.density_kg_m3,
+        )
+        ge = timoshenko_gyroscopic(s.length_m / s.elements, sec)
+        G = np.zeros((ndof, ndof))
+        for e in range(s.elements):
+            G[a + 6 * e : a + 6 * e + 12, a + 6 * e : a + 6 * e + 12] += ge
+        gyro[s.name] = G
     node_xyz = np.array(xyz)
 
     def node(ref) -> int:  # noqa: ANN001
@@ -233,6 +245,7 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         )
         d = 6 * node(w.at)
         M[d : d + 6, d : d + 6] += rigid_disc(mass, ip, idia)
+        gyro[w.at.shaft][d : d + 6, d : d + 6] += disc_gyroscopic(ip)
     # --- bearings
     nb = len(t.bearings)
     B = Bearings(
@@ -350,7 +363,7 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         M=M, K=K, node_xyz=node_xyz, shaft_nodes=shaft_nodes, shaft_sign=sign, bearings=B,
         meshes=Mh, drive_node=drive_node, load_node=load_node,
         drive_torque=t.drive.torque_nm, load_torque=t.load.torque_nm,
-        modal_damping=t.modal_damping,
+        modal_damping=t.modal_damping, gyroscopic=gyro,
     )
 
 
@@ -501,3 +514,35 @@ def rigid_rotation(model: TransmissionModel, ratios: dict[str, float], angle: fl
         for nd in ids:
             q[6 * nd + 5] = model.shaft_sign[s] * ratios[s] * angle
     return q
+
+
+def campbell(
+    model: TransmissionModel,
+    K_lin: np.ndarray,
+    speeds_rpm: np.ndarray,
+    ratios: dict[str, float],
+    n_modes: int = 20,
+):  # noqa: ANN201 - xarray.DataArray
+    """Campbell diagram: undamped whirl frequencies (Hz) of M q̈ + G(Ω) q̇ + K_lin q = 0 at the
+    reference-shaft speeds ``speeds_rpm``, each shaft spinning at ``ratios[shaft]`` × the
+    reference speed in its own direction (gyroscopic terms of shafts and wheels).
+
+    Returns a DataArray (speed_rpm, mode) of the lowest ``n_modes`` non-zero frequencies."""
+    import xarray as xr
+
+    n = model.ndof
+    minv = np.linalg.inv(model.M)
+    out = np.full((len(speeds_rpm), n_modes), np.nan)
+    for i, rpm in enumerate(np.asarray(speeds_rpm, dtype=float)):
+        om = rpm * math.pi / 30.0
+        G = sum(model.shaft_sign[s] * ratios[s] * om * g for s, g in model.gyroscopic.items())
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ K_lin, -minv @ G]])
+        lam = np.linalg.eigvals(A)
+        f = np.sort(lam.imag[lam.imag > 1e-6]) / (2 * math.pi)
+        f = f[f > 0.5][:n_modes]
+        out[i, : f.size] = f
+    return xr.DataArray(
+        out, dims=("speed_rpm", "mode"),
+        coords={"speed_rpm": np.asarray(speeds_rpm, dtype=float), "mode": np.arange(n_modes)},
+        name="frequency_hz", attrs={"units": "Hz"},
+    )
