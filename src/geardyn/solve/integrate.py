@@ -556,9 +556,10 @@ def reference_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray
     def periodic(x: float, tab: np.ndarray, ln: int, per: float) -> float:
         if ln == 1:
             return float(tab[0])
-        xs = np.arange(ln + 1) * per / ln
-        ys = np.append(tab[:ln], tab[0])
-        return float(np.interp(x % per, xs, ys))
+        pos = (x / per) % 1.0 * ln
+        i = int(pos)
+        w = pos - i
+        return float(tab[i % ln] * (1 - w) + tab[(i + 1) % ln] * w)
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         q, v = y[:n], y[n:]
