@@ -20,6 +20,8 @@ app = typer.Typer(
 from geardyn.cli import analyze as _analyze  # noqa: E402,F401
 from geardyn.cli import demo as _demo  # noqa: E402,F401
 from geardyn.cli import kinematics as _kinematics  # noqa: E402,F401
+from geardyn.cli import modes as _modes  # noqa: E402,F401
+from geardyn.cli import simulate as _simulate  # noqa: E402,F401
 from geardyn.cli import stiffness as _stiffness  # noqa: E402,F401
 from geardyn.cli import transmission as _transmission  # noqa: E402,F401
 

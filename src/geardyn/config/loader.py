@@ -36,7 +36,7 @@ class GeardynConfig(Mechanism):
         return self
 
     planetary_dynamics: PlanetaryDynamics | None = Field(
-        None, description="lumped-parameter planetary model and simulation (geardyn.config.planetary)"
+        None, description="lumped planetary model and simulation (geardyn.config.planetary)"
     )
 
     @model_validator(mode="after")
