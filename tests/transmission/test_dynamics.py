@@ -196,3 +196,15 @@ def test_plain_torque_laws_accelerate_as_rigid_drive_line(data) -> None:
     expected = (60.0 - 100.0 * r["output"] - visc - other) / j_eq
     slope = np.polyfit(t, w, 1)[0]
     assert slope == pytest.approx(expected, rel=0.02)
+
+
+def test_distant_bearings_seen_on_low_speed_shaft(healthy) -> None:
+    """Seed 002 §3.5.1 (Fig 12): the bearings of the intermediate and input shafts appear in
+    the low-speed shaft IAS at their BPFO × shaft speed ratio (55/42, 55/42·53/31)."""
+    ball = bearing_frequencies(1.0, 0.0, 11, 0.0127, 0.080).bpfo
+    roller = bearing_frequencies(1.0, 0.0, 18, 0.010, 0.0725).bpfo
+    o, a = _spectrum(healthy)
+    for ratio in (55 / 42, 55 / 42 * 53 / 31):
+        for bpfo in (ball, roller):
+            pk, floor = _peak(o, a, bpfo * ratio)
+            assert pk > 5 * floor, (ratio, bpfo, pk / floor)
