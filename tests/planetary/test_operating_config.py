@@ -67,8 +67,7 @@ def test_run_up_profile():
     np.testing.assert_allclose(run_up(t, 0.0, 100.0, 0.5, 1.5), [0, 0, 50, 100, 100])
 
 
-@pytest.mark.parametrize("name", ["planetary_lin_parker.toml", "planetary_bench_36dof.toml",
-                                  "planetary_bench_12dof.toml", "planetary_reclaimer.toml"])
+@pytest.mark.parametrize("name", sorted(p.name for p in EX.glob("planetary_*.toml")))
 def test_examples_load_and_run(name):
     cfg = load_config(EX / name)
     p = prepare(cfg)
@@ -125,3 +124,22 @@ def test_inconsistent_geometry_rejected():
     d["planetary_dynamics"]["stages"][0]["pressure_angle_sun_deg"] = 20.0
     with pytest.raises(ConfigError, match="pressure_angle_sun_deg: inconsistent with the radii"):
         parse_config(d)
+
+
+@pytest.mark.parametrize(("name", "rpm_end"), [("planetary_bench_12dof.toml", 1498.5),
+                                               ("planetary_bench_12dof_rundown.toml", 1000.0)])
+def test_bench_run_up_and_run_down_follow_the_profile(name, rpm_end):
+    """Seed 003 ch. 4 run-up/run-down: the speed-controlled motor follows the ramp and the
+    carriers turn at z_s/(z_s + z_r) = 16/81 of it (Willis, ring held)."""
+    cfg = load_config(EX / name)
+    p = prepare(cfg)
+    sim = cfg.planetary_dynamics.simulation
+    ds = simulate(p.model, p.system, p.mesh_index, p.q0, p.v0, sim.t_end_s, sim.dt_s)
+    last = ds.isel(time=slice(-200, None))
+    w_s = float(last.v.sel(dof="reaction.sun.u").mean()) / p.model.body("reaction.sun").radius
+    w_c = float(last.v.sel(dof="test.carrier.u").mean()) / p.model.body("test.carrier").radius
+    prof = np.array(sim.speed_controls[0].profile_rpm)
+    ref = np.interp(last.time.values, prof[:, 0], prof[:, 1]).mean()
+    assert w_s * 60 / (2 * math.pi) == pytest.approx(ref, rel=0.01)
+    assert abs(ref - rpm_end) < 0.05 * rpm_end
+    assert w_c / w_s == pytest.approx(16 / 81, rel=0.02)

@@ -75,18 +75,21 @@ def test_steady_state_ratios_and_mesh_frequency(healthy):
 
 
 @pytest.mark.parametrize(
-    ("gear", "per_rev"),
+    ("fault", "per_rev"),
     [
-        ("sun", (5.3684 - 1) * 3),  # Table 9-17: 13.1052 sun-crack humps per carrier rev
-        ("ring", 3.0),  # one per planet pass
-        ("planet", ZR / ZP),  # eq 9.3: z_r/z_p = 2.5938 (bigger humps: the sun mesh)
+        # Table 9-17: 13.1052 sun-crack humps per carrier rev
+        ({"kind": "crack", "gear": "sun", "crack_fraction": 0.4}, (5.3684 - 1) * 3),
+        ({"kind": "crack", "gear": "ring", "crack_fraction": 0.4}, 3.0),  # one per planet pass
+        # eq 9.3: z_r/z_p = 2.5938 (bigger humps: the sun mesh)
+        ({"kind": "crack", "gear": "planet", "crack_fraction": 0.4}, ZR / ZP),
+        ({"kind": "spall", "gear": "sun", "spall_depth_m": 2e-4}, (5.3684 - 1) * 3),
     ],
 )
-def test_crack_signature_counts(raw, healthy, gear, per_rev):
+def test_fault_signature_counts(raw, healthy, fault, per_rev):
     """Difference of the carrier torsional velocity (cracked − healthy), resampled to the
     carrier angle: disturbances recur every 360°/per_rev of carrier rotation."""
     _, p, h = healthy
-    _, _, c = _run(raw, [{"kind": "crack", "gear": gear, "crack_fraction": 0.4}], 10.0)
+    _, _, c = _run(raw, [fault], 10.0)
     rc = p.model.body("carrier").radius
     theta = c.q.sel(dof="carrier.u").values / rc
     diff = (c.v.sel(dof="carrier.u") - h.v.sel(dof="carrier.u")).values
