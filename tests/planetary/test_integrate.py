@@ -4,6 +4,7 @@ right-hand side, HHT dissipation, divergence diagnosis."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from scipy.integrate import solve_ivp
 
 from geardyn.config.loader import load_config
@@ -96,3 +97,40 @@ def test_divergence_stops_and_keeps_results(lin_parker):
     assert 1 < len(res.t) < 10001
     assert np.all(np.isfinite(res.q))
     assert np.abs(res.q[-1, j]) <= 1.0
+
+
+def test_adaptive_option_agrees_with_newmark():
+    cfg = load_config(EX / "planetary_lin_parker.toml")
+    p = prepare(cfg)
+    from geardyn.solve.integrate import adaptive
+
+    res = newmark(p.system, p.q0, p.v0, 1e-3, 2.5e-7, save_every=400)
+    ad = adaptive(p.system, p.q0, p.v0, res.t, rtol=1e-9, atol=1e-14)
+    assert ad.status == "ok"
+    a = p.system.springs.a
+    d_nm, d_ad = res.q @ a.T, ad.q @ a.T
+    assert np.abs(d_nm - d_ad).max() < 2e-3 * np.ptp(d_ad, axis=0).max()
+
+
+def test_pin_errors_in_simulation_shift_load_sharing():
+    """Config ``pin_errors_m`` (seed 003 ch. 5) in a damped run of the Lin & Parker stage:
+    the planet with the positive error carries more than 1/N, the negative one less."""
+    import copy
+    import tomllib
+
+    from geardyn.config.loader import parse_config
+    from geardyn.models.planetary.dynamics import simulate
+
+    with open(EX / "planetary_lin_parker.toml", "rb") as fh:
+        d = tomllib.load(fh)
+    d = copy.deepcopy(d)
+    d["planetary_dynamics"]["stages"][0]["pin_errors_m"] = [2e-6, 0.0, -2e-6, 0.0]
+    d["planetary_dynamics"]["stages"][0]["sun_mesh"]["amplitude"] = 0.0
+    d["planetary_dynamics"]["stages"][0]["ring_mesh"]["amplitude"] = 0.0
+    d["planetary_dynamics"]["simulation"]["rayleigh_beta"] = 2e-5
+    p = prepare(parse_config(d))
+    ds = simulate(p.model, p.system, p.mesh_index, p.q0, p.v0, 0.01, 2e-5)
+    lsr = ds.lsr_stage.isel(time=slice(-100, None)).mean("time").values
+    assert lsr.sum() == pytest.approx(1.0, rel=1e-6)
+    assert lsr[0] > 0.25 > lsr[2]
+    assert lsr[1] == pytest.approx(lsr[3], rel=1e-3)
