@@ -134,3 +134,22 @@ def test_pin_errors_in_simulation_shift_load_sharing():
     assert lsr.sum() == pytest.approx(1.0, rel=1e-6)
     assert lsr[0] > 0.25 > lsr[2]
     assert lsr[1] == pytest.approx(lsr[3], rel=1e-3)
+
+
+def test_modal_damping_ratio_recovered(lin_parker):
+    """C = MΦ diag(2ζω)ΦᵀM: the damped eigenvalues have ζ = −Re λ/|λ| on every elastic mode."""
+    from geardyn.solve.modal import modes
+
+    sys, _ = build_system(lin_parker, {}, modal_damping=0.03)
+    n = sys.n
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    minv = np.linalg.inv(sys.M)
+    a[n:, :n] = -minv @ sys.K
+    a[n:, n:] = -minv @ sys.C
+    lam = np.linalg.eigvals(a)
+    lam = lam[np.abs(lam) > 2 * np.pi * 1.0]
+    zeta = -lam.real / np.abs(lam)
+    np.testing.assert_allclose(zeta, 0.03, rtol=1e-6)
+    f = np.sort(np.abs(lam[lam.imag > 0]) / (2 * np.pi))
+    np.testing.assert_allclose(f, np.sort(modes(lin_parker).freq_hz[1:]), rtol=1e-6)

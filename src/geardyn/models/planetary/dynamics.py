@@ -117,11 +117,14 @@ def build_system(
     contact_loss: bool = False,
     ring_phase: dict[str, float] | None = None,
     mass_schedule: MassSchedule | None = None,
+    modal_damping: float = 0.0,
 ) -> tuple[LinearSystem, list[int]]:
     """Integrator system: constant springs in K₀, meshes with a law as variable springs.
 
     Damping: Rayleigh C = α M + β K_mean (seed 003 eq 1.16), plus viscous dampers on DOFs
-    (``support_damping``: DOF name → N·s/m) and along each mesh line (``mesh_damping``).
+    (``support_damping``: DOF name → N·s/m) and along each mesh line (``mesh_damping``), and
+    modal damping ratio ζ on every elastic mode of the mean-stiffness model:
+    C += M Φ diag(2ζω_i) Φᵀ M with mass-normalised Φ (seed 003 eq 1.16, c_i = 2 m_i ω_i ζ_i).
     """
     laws = laws or {}
     rows, idx = spring_rows(model, laws, mesh_damping, contact_loss, ring_phase)
@@ -132,6 +135,14 @@ def build_system(
             kk += s.k * np.outer(a[i], a[i])
     mm = model.mass_matrix()
     cc = rayleigh[0] * mm + rayleigh[1] * model.stiffness_matrix()
+    if modal_damping > 0:
+        import scipy.linalg as sla
+
+        w2, phi = sla.eigh(model.stiffness_matrix(), mm)
+        w = np.sqrt(np.clip(w2, 0.0, None))
+        w[w < 2 * np.pi * 1e-2] = 0.0  # rigid-body modes stay undamped
+        mp = mm @ phi
+        cc += mp @ np.diag(2 * modal_damping * w) @ mp.T
     for name, c in (support_damping or {}).items():
         j = model.dof(name)
         cc[j, j] += c
