@@ -181,6 +181,8 @@ class Simulation(_M):
     rayleigh_alpha: float = Field(0.0, ge=0, description="C = α M + β K (1/s)")
     rayleigh_beta: float = Field(0.0, ge=0, description="(s)")
     modal_damping_ratio: float = Field(0.0, ge=0, lt=1, description="ζ on every elastic mode")
+    gyroscopic: bool = Field(False, description="gyroscopic + centripetal terms at the current "
+                             "carrier speed (seed 003 eq 3.1)")
     support_damping: dict[str, float] = Field(default_factory=dict,
                                               description="DOF name → N·s/m")
     initial_speed_rpm: dict[str, float] = Field(

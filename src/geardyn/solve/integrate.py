@@ -8,7 +8,8 @@ Generic interface (any lumped model, not only planetary): constant M₀, C₀, K
   angles), viscous damping c along a, optional contact loss (k = c = 0 when δ < 0);
 - *torque elements* (:class:`Drives`): speed–torque curves (motors), fluid couplings, speed-
   squared loads with an angle schedule, imposed speed (stiff speed control);
-- a tabulated force history F(t) and an optional mass schedule M_ii(θ).
+- a tabulated force history F(t), an optional mass schedule M_ii(θ) and optional gyroscopic
+  terms Ω G q̇ − Ω² K_Ω q with Ω = rᵀq̇ (rotating-frame models).
 
 Schemes: fixed-step Newmark (average acceleration γ = ½, β = ¼ by default) and HHT-α
 (Hilber-Hughes-Taylor 1977: β = (1+α)²/4, γ = ½ + α, α ∈ [0, ⅓]); the stiffness and the
@@ -161,6 +162,9 @@ class LinearSystem:
     force: np.ndarray  # (nt, n)
     mass_schedule: MassSchedule = field(default_factory=MassSchedule)
     dof_names: list[str] | None = None
+    gyro_g: np.ndarray = field(default_factory=lambda: np.zeros((0, 1, 1)))  # (ng, n, n)
+    gyro_k: np.ndarray = field(default_factory=lambda: np.zeros((0, 1, 1)))  # K_Ω
+    gyro_rate: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))  # Ω = rate·v
 
     @property
     def n(self) -> int:
@@ -284,7 +288,7 @@ def _force_table(t, ft, fv, f):
 @nb.njit(cache=True)
 def _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
               dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-              md, mc, mh, mtx, mty, mtl, M, C, K, f, kout, eout, dout):
+              md, mc, mh, mtx, mty, mtl, gg, gk, gr, M, C, K, f, kout, eout, dout):
     """M, C, K at state (q, v, t) and the right-hand side f = F − Σ k e a (seed 004 eq 3.41)."""
     n = q.shape[0]
     M[:, :] = M0
@@ -313,6 +317,16 @@ def _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, ep
             C[a, b] += gb * hb * dha[i]
             C[b, a] -= hb * ga * dha[i]
             C[b, b] -= hb * gb * hb
+    # gyroscopic and centripetal terms of each stage at its carrier speed Ω = r·v
+    # (seed 003 eq 3.1: Ω G q̇ − Ω² K_Ω q, carrier-fixed frame)
+    for g in range(gg.shape[0]):
+        om = 0.0
+        for j in range(n):
+            om += gr[g, j] * v[j]
+        for i in range(n):
+            for j in range(n):
+                C[i, j] += om * gg[g, i, j]
+                K[i, j] -= om * om * gk[g, i, j]
     for e in range(sa.shape[0]):
         k = kout[e]
         ce = sc[e]
@@ -336,7 +350,7 @@ def _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, ep
 @nb.njit(cache=True)
 def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
                     dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-                    md, mc, mh, mtx, mty, mtl,
+                    md, mc, mh, mtx, mty, mtl, gg, gk, gr,
                     q0, v0, t0, dt, nsteps, save_every, alpha, qlim,
                     Q, V, KS, DS, TS):
     """Fixed-step HHT-α/Newmark; returns (steps done, status, offending DOF)."""
@@ -355,6 +369,7 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
     dout = np.empty(ns)
     _assemble(q, v, t0, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
               dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
+              gg, gk, gr,
               M, C, K, f, kout, eout, dout)
     r0 = f - C @ v - K @ q
     acc = np.linalg.solve(M, r0)
@@ -370,7 +385,7 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
         vp = v + dt * (1.0 - gamma) * acc
         _assemble(qp, vp, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc,
                   closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-                  md, mc, mh, mtx, mty, mtl, M, C, K, f, kout, eout, dout)
+                  md, mc, mh, mtx, mty, mtl, gg, gk, gr, M, C, K, f, kout, eout, dout)
         lhs = M + (1.0 - alpha) * (gamma * dt * C + beta * dt * dt * K)
         rhs = (1.0 - alpha) * (f - C @ vp - K @ qp) + alpha * r0
         acc_new = np.linalg.solve(lhs, rhs)
@@ -398,7 +413,8 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
 
 @nb.njit(cache=True)
 def _rhs_kernel(t, y, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-                dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl):
+                dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
+                gg, gk, gr):
     n = M0.shape[0]
     ns = sa.shape[0]
     q = y[:n].copy()
@@ -412,6 +428,7 @@ def _rhs_kernel(t, y, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, epe
     dout = np.empty(ns)
     _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
               dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
+              gg, gk, gr,
               M, C, K, f, kout, eout, dout)
     out = np.empty(2 * n)
     out[:n] = v
@@ -428,6 +445,7 @@ def _args(sys: LinearSystem) -> tuple:
         d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen,
         np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float),
         m.dof, m.ctrl, m.h, m.tx, m.ty, m.tlen,
+        sys.gyro_g, sys.gyro_k, sys.gyro_rate,
     )
 
 
@@ -574,6 +592,10 @@ def reference_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray
             f = np.array([np.interp(t, sys.force_t, sys.force[:, j]) for j in range(n)])
         else:
             f = np.zeros(n)
+        for g in range(sys.gyro_g.shape[0]):
+            om = sys.gyro_rate[g] @ v
+            C += om * sys.gyro_g[g]
+            K -= om**2 * sys.gyro_k[g]
         for e in range(s.a.shape[0]):
             x = s.b[e] @ q + s.x0[e]
             k = periodic(x, s.ktab[e], s.klen[e], s.kper[e])

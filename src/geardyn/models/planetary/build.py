@@ -290,7 +290,7 @@ def prepare(cfg: object) -> Prepared:
     sys, idx = build_system(model, laws, drives, t_grid, force,
                             (sim.rayleigh_alpha, sim.rayleigh_beta), sim.support_damping,
                             cdamp, sim.contact_loss, ring_phase, mass_sched,
-                            sim.modal_damping_ratio)
+                            sim.modal_damping_ratio, sim.gyroscopic)
     q0 = np.zeros(n)
     v0 = rigid_velocity(model, sim.initial_speed_rpm)
     # planet pin errors: offsets on the tangential planet-bearing springs, as a force

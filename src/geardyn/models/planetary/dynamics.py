@@ -118,6 +118,7 @@ def build_system(
     ring_phase: dict[str, float] | None = None,
     mass_schedule: MassSchedule | None = None,
     modal_damping: float = 0.0,
+    gyroscopic: bool = False,
 ) -> tuple[LinearSystem, list[int]]:
     """Integrator system: constant springs in K₀, meshes with a law as variable springs.
 
@@ -125,6 +126,8 @@ def build_system(
     (``support_damping``: DOF name → N·s/m) and along each mesh line (``mesh_damping``), and
     modal damping ratio ζ on every elastic mode of the mean-stiffness model:
     C += M Φ diag(2ζω_i) Φᵀ M with mass-normalised Φ (seed 003 eq 1.16, c_i = 2 m_i ω_i ζ_i).
+    ``gyroscopic``: add Ω_c G q̇ − Ω_c² K_Ω q per stage with Ω_c its current carrier speed
+    (seed 003 eq 3.1).
     """
     laws = laws or {}
     rows, idx = spring_rows(model, laws, mesh_damping, contact_loss, ring_phase)
@@ -153,6 +156,23 @@ def build_system(
         np.zeros((0, n)) if force is None else np.asarray(force, float),
         mass_schedule or MassSchedule(), model.names,
     )
+    if gyroscopic and model.gyro is not None:
+        t = model.transform
+        gs, ks, rs = [], [], []
+        for info in model.stages.values():
+            dofs = [d for b in model.bodies.values() if b.stage == info.name and b.kind != "rotor"
+                    for d in b.dofs]
+            mask = np.zeros(model.n_full)
+            mask[dofs] = 1.0
+            sel = np.outer(mask, mask)
+            gs.append(t.T @ (model.gyro * sel) @ t)
+            ks.append(t.T @ (model.k_omega * sel) @ t)  # type: ignore[operator]
+            rs.append(model.rotation_vector(info.bodies["carrier"]))
+        sys.gyro_g, sys.gyro_k, sys.gyro_rate = np.array(gs), np.array(ks), np.array(rs)
+    else:
+        sys.gyro_g = np.zeros((0, n, n))
+        sys.gyro_k = np.zeros((0, n, n))
+        sys.gyro_rate = np.zeros((0, n))
     return sys, idx
 
 
