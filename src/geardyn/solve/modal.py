@@ -34,6 +34,7 @@ class ModalResult:
     dof_names: list[str]
     spring_names: list[str]
     spring_bins: list[str]
+    mass_fraction: np.ndarray | None = None  # (n_modes, n_dof) φ_k (Mφ)_k, sums to 1
 
     def to_dataset(self) -> xr.Dataset:
         """xarray Dataset: freq (Hz), shape(mode, dof), energy fractions."""
@@ -57,9 +58,10 @@ class ModalResult:
         """One row per mode: frequency, multiplicity, type, dominant motion and strain."""
         rows = []
         for i, f in enumerate(self.freq_hz):
-            k = int(np.argmax(self.kinetic[i])) if self.kinetic[i].sum() > 0 else 0
-            tot_p = self.strain[i].sum()
-            s = int(np.argmax(self.strain[i])) if tot_p > 0 else -1
+            w = self.kinetic[i] if self.mass_fraction is None else self.mass_fraction[i]
+            k = int(np.argmax(w))
+            rigid = self.mode_type[i] == "rigid"
+            s = -1 if rigid or self.strain[i].sum() <= 0 else int(np.argmax(self.strain[i]))
             rows.append(
                 {
                     "mode": i + 1,
@@ -156,6 +158,7 @@ def modes(
         model.names,
         [s.name for s in model.springs],
         [s.bin for s in model.springs],
+        (phi * (mm @ phi)).T,
     )
 
 
@@ -234,5 +237,6 @@ def strain_energy_table(model: PlanetaryModel, res: ModalResult) -> tuple[list[s
             labels.append(s.bin or s.name)
             cols.append(res.strain[:, i])
     e = np.array(cols).T
+    e[[t == "rigid" for t in res.mode_type]] = 0.0  # round-off only
     tot = e.sum(1, keepdims=True)
     return labels, np.divide(e, tot, out=np.zeros_like(e), where=tot > 0)
