@@ -90,8 +90,8 @@ def test_energy_bins_sum_to_total(bench36):
 
 
 def test_lin_parker_four_planets_has_planet_modes(lin_parker):
-    """Lin & Parker (1999): N = 4 → planet modes with multiplicity N − 3 ... here N − 1 = 3 DOF
-    groups; each planet-mode frequency has multiplicity N − 3 = 1 and central members at rest."""
+    """Lin & Parker (1999), N = 4 planets: 3 planet-mode frequencies (one per planet DOF),
+    each of multiplicity N − 3 = 1, with the central members at rest."""
     r = modes(lin_parker)
     n = len(r.freq_hz)
     assert n == 21
