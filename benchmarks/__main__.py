@@ -2,14 +2,21 @@
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
-import sys
-import time
-from pathlib import Path
+import os
 
-from rich.console import Console
-from rich.table import Table
+# One-core numbers: keep BLAS from spreading over (and fighting for) the machine's cores. Must be
+# set before numpy is first imported.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import importlib  # noqa: E402
+import pkgutil  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from rich.console import Console  # noqa: E402
+from rich.table import Table  # noqa: E402
 
 
 def main(argv: list[str]) -> int:
