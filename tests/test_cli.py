@@ -59,3 +59,5 @@ def test_demo_runs_all_examples():
     assert res.exit_code == 0, res.output
     for name in ("car_differential", "alouette3_mgb", "hammami_back_to_back", "reclaimer_drive"):
         assert name in res.output
+    for step in ("geardyn stiffness", "geardyn modes", "geardyn transmission"):
+        assert step in res.output

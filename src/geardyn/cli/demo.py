@@ -20,8 +20,22 @@ KINEMATIC_EXAMPLES = [
     "hammami_back_to_back.toml",
     "reclaimer_drive.toml",
 ]
-#: Gear-pair stiffness examples (issue 3): geometry and mesh stiffness summaries.
-STIFFNESS_EXAMPLES = ["seed002_two_stage.toml", "seed004_planetary.toml"]
+#: Further demo steps: (title, command line after ``geardyn``; ``{ex}`` = examples folder).
+COMMAND_EXAMPLES = [
+    ("seed 002 gear stages: geometry and mesh stiffness", "stiffness {ex}/seed002_two_stage.toml"),
+    (
+        "seed 004 planetary meshes: geometry and mesh stiffness",
+        "stiffness {ex}/seed004_planetary.toml",
+    ),
+    (
+        "seed 003 back-to-back bench, 36-DOF lumped model: modes",
+        "modes {ex}/planetary_bench_36dof.toml",
+    ),
+    (
+        "seed 002 FE transmission: shaft-line modes",
+        "transmission {ex}/seed002_transmission.toml --modes-only",
+    ),
+]
 
 
 def examples_dir() -> Path:
@@ -47,10 +61,11 @@ def demo_cmd(
         freqs = characteristic_frequencies(analysis, dict(cfg.input_speeds_rpm))
         console.rule(f"[bold]{name}")
         render_kinematics(analysis, freqs)
-    from geardyn.cli.stiffness import stiffness_cmd
+    from typer.main import get_command
 
-    for name in STIFFNESS_EXAMPLES:
-        console.rule(f"[bold]{name}: gear geometry and mesh stiffness")
-        stiffness_cmd(
-            folder / name, pair=None, plot=None, cycles=2.0, hunting=False, samples=64, netcdf=None
-        )
+    command = get_command(app)
+    for title, line in COMMAND_EXAMPLES:
+        args = line.format(ex=folder).split()
+        console.rule(f"[bold]{title}")
+        console.print(f"[dim]$ geardyn {' '.join(args)}[/]")
+        command.main(args, prog_name="geardyn", standalone_mode=False)
