@@ -88,6 +88,20 @@ class StageDynamics(_M):
     sun_mesh: MeshParams
     ring_mesh: MeshParams
     transmission_error: bool = Field(False, description="seed 004 pitch + profile errors")
+    random_error_max_m: float = Field(
+        0.0,
+        ge=0,
+        description="seed 004 §4.1.3 random impulse excitation: largest impulse (m; the thesis "
+        "uses 1e-6); 0 disables it",
+    )
+    random_error_probability: float = Field(
+        100 / 501,
+        gt=0,
+        le=1,
+        description="probability that a sample of the error table carries an impulse (seed 004 "
+        "code: 100/501)",
+    )
+    random_error_seed: int = Field(0, ge=0, description="seed of the random impulses")
     faults: list[FaultParams] = Field(default_factory=list)
     sun_ring_phase: float = Field(0.0, description="γ_rs (mesh cycles), seed 004 Table 4-2")
     pin_errors_m: list[float] | None = Field(

@@ -122,6 +122,22 @@ def _seed004_errors(which: str, x: np.ndarray, z_gear: int, z_planet: int, eps: 
     return (e + best) * 1e-3
 
 
+def random_impulses(
+    n: int, max_m: float, probability: float, seed: int | tuple[int, ...]
+) -> np.ndarray:
+    """Seed 004 §4.1.3 random impulse excitation (m), one draw per error-table sample.
+
+    The thesis code draws an integer uniformly in [−400, 100], sets negatives to 0 and scales by
+    1e−5 mm: an impulse with probability 100/501, uniform in (0, 1 µm]. Here the impulse height
+    is uniform in (0, ``max_m``] with probability ``probability``. Unlike the thesis (which drew
+    per right-hand-side call and therefore disabled it, notes §6), the sequence is drawn once per
+    table with ``seed``, so runs are reproducible; the table repeats after its period.
+    """
+    rng = np.random.default_rng(seed)
+    hit = rng.random(n) < probability
+    return np.where(hit, rng.uniform(0.0, 1.0, n) * max_m, 0.0)
+
+
 def mesh_laws(cfg: object, model: PlanetaryModel) -> dict[tuple[str, str], MeshLaw]:
     """Time-varying mesh laws of every stage from its mesh settings and faults."""
     pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
@@ -150,10 +166,12 @@ def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: in
     off = _pitch_offset(which, eps)
     z_gear = zs if which == "sun" else zr
     faults = [f for f in sd.faults if f.gear in (which, "planet")]
-    if not faults and not sd.transmission_error:
+    randomised = sd.random_error_max_m > 0
+    if not faults and not sd.transmission_error and not randomised:
         x = np.arange(SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
         return MeshLaw(torsional_stiffness_curve(p, x, 0.0, off) / p.r_pb**2)
-    period = z_gear if not sd.transmission_error else math.lcm(z_gear, zp)
+    errors_on = sd.transmission_error or randomised
+    period = z_gear if not errors_on else math.lcm(z_gear, zp)
     if any(f.gear == "planet" for f in faults):
         period = math.lcm(period, zp)
     x = np.arange(period * SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
@@ -163,6 +181,13 @@ def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: in
     for pl in range(1, n + 1):
         k = base.copy()
         err = e.copy() if sd.transmission_error else np.zeros(len(x))
+        if randomised:
+            err = err + random_impulses(
+                len(x),
+                sd.random_error_max_m,
+                sd.random_error_probability,
+                (sd.random_error_seed, 0 if which == "sun" else 1, pl),
+            )
         for f in faults:
             if f.gear == "planet" and pl != 1:
                 continue
