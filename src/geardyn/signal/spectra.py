@@ -32,35 +32,40 @@ def _amplitude(x: np.ndarray, window: str) -> np.ndarray:
     return spec
 
 
-def amplitude_spectrum(x: np.ndarray, fs: float, window: str = "hann") -> xr.DataArray:
-    """Single-sided amplitude spectrum of ``x`` sampled at ``fs`` [Hz]; coordinate ``frequency``
-    [Hz] (seed 003 eq 1.26, discrete, window-corrected)."""
+def _single_sided(
+    x: np.ndarray, rate: float, rate_name: str, rate_what: str, dim: str, units: str, window: str
+) -> xr.DataArray:
+    """Window-corrected single-sided amplitude spectrum on coordinate ``dim``."""
     a = array1d("x", x, 4)
-    f = positive("fs", fs, "sample rate [Hz]")
+    r = positive(rate_name, rate, rate_what)
     spec = _amplitude(a, window)
-    freq = np.fft.rfftfreq(a.size, 1.0 / f)
+    axis = np.fft.rfftfreq(a.size, 1.0 / r)
     return xr.DataArray(
         spec,
-        coords={"frequency": ("frequency", freq, {"units": "Hz"})},
-        dims="frequency",
+        coords={dim: (dim, axis, {"units": units})},
+        dims=dim,
         name="amplitude",
         attrs={"window": window},
     )
 
 
+def amplitude_spectrum(x: np.ndarray, fs: float, window: str = "hann") -> xr.DataArray:
+    """Single-sided amplitude spectrum of ``x`` sampled at ``fs`` [Hz]; coordinate ``frequency``
+    [Hz] (seed 003 eq 1.26, discrete, window-corrected)."""
+    return _single_sided(x, fs, "fs", "sample rate [Hz]", "frequency", "Hz", window)
+
+
 def order_spectrum(x: np.ndarray, samples_per_rev: float, window: str = "hann") -> xr.DataArray:
     """Order spectrum of an angle-domain signal (``samples_per_rev`` samples per revolution):
     coordinate ``order`` [events/rev] with resolution ``1/revolutions`` (seed 002 §3.2)."""
-    a = array1d("x", x, 4)
-    spr = positive("samples_per_rev", samples_per_rev, "samples per revolution")
-    spec = _amplitude(a, window)
-    order = np.fft.rfftfreq(a.size, 1.0 / spr)
-    return xr.DataArray(
-        spec,
-        coords={"order": ("order", order, {"units": "events/rev"})},
-        dims="order",
-        name="amplitude",
-        attrs={"window": window},
+    return _single_sided(
+        x,
+        samples_per_rev,
+        "samples_per_rev",
+        "samples per revolution",
+        "order",
+        "events/rev",
+        window,
     )
 
 
