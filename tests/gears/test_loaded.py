@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
 from geardyn.errors import InputError
 from geardyn.gears.faults import Spall
-from geardyn.gears.geometry import GearBlank, Material, mesh_geometry
+from geardyn.gears.geometry import GearBlank, mesh_geometry
 from geardyn.gears.loaded import (
     Corrections,
     TipRelief,
@@ -18,20 +16,12 @@ from geardyn.gears.loaded import (
 )
 from geardyn.gears.pe_stiffness import mesh_stiffness
 
-A20 = math.radians(20.0)
-STEEL = Material(202e9, 0.255)
+from .seed002 import A20, seed002_low
 
 
 @pytest.fixture(scope="module")
 def low():
-    return mesh_geometry(
-        GearBlank(42, tip_radius=0.066, root_radius=0.0585, rim_radius=0.03, material=STEEL),
-        GearBlank(55, tip_radius=0.0855, root_radius=0.0768, rim_radius=0.03, material=STEEL),
-        0.003,
-        A20,
-        0.025,
-        label="low",
-    )
+    return seed002_low()
 
 
 def test_separation_zero_on_path_symmetric_and_quadratic():
