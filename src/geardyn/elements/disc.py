@@ -1,4 +1,9 @@
-"""Rigid disc (gear wheel body) lumped at a node: mass and inertia (SI)."""
+"""Rigid disc (gear wheel body) lumped at a node: mass and inertia (SI).
+
+Seed 002 §2.1 models each gear wheel as a rigid disc on its shaft node; the nodal mass matrix is
+the standard rigid-disc one of rotordynamics (e.g. Friswell et al., *Dynamics of Rotating
+Machines*, 2010, §5.3), I_d = I_p/2 for a thin disc.
+"""
 
 from __future__ import annotations
 
