@@ -61,3 +61,21 @@ def test_demo_runs_all_examples():
         assert name in res.output
     for step in ("geardyn stiffness", "geardyn modes", "geardyn transmission"):
         assert step in res.output
+
+
+@pytest.mark.parametrize(
+    ("command", "section"),
+    [
+        ("modes", "[planetary_dynamics]"),
+        ("simulate", "[planetary_dynamics]"),
+        ("transmission", "[transmission]"),
+    ],
+)
+def test_missing_analysis_section_is_a_message(examples_dir, command, section):
+    args = [command, str(examples_dir / "car_differential.toml")]
+    if command == "simulate":
+        args += ["--out", "unused.nc"]
+    res = runner.invoke(app, args)
+    assert res.exit_code == 2, res.output
+    assert section in res.output  # brackets survive the terminal markup
+    assert "Traceback" not in res.output

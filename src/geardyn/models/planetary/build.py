@@ -235,7 +235,9 @@ class Prepared:
 
 def prepare(cfg: object) -> Prepared:
     """Model, integrator system and initial state of the config's simulation."""
-    pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
+    pd: PlanetaryDynamics | None = getattr(cfg, "planetary_dynamics", None)
+    if pd is None:
+        raise ConfigError("the config has no [planetary_dynamics] section")
     sim = pd.simulation
     if sim is None:
         raise ConfigError("planetary_dynamics.simulation is missing (t_end_s, dt_s, ...)")
