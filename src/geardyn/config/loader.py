@@ -9,9 +9,11 @@ from typing import Any
 
 from pydantic import Field, ValidationError, model_validator
 
+from geardyn.config.diagnosis import DiagnosisSpec
 from geardyn.config.gears import GearGeometryConfig, check_gear_geometry
 from geardyn.config.mechanism import Mechanism
 from geardyn.config.planetary import PlanetaryDynamics, check_planetary_dynamics
+from geardyn.config.sensors import SensorSpec, check_sensors
 from geardyn.config.transmission import TransmissionConfig, check_transmission
 from geardyn.errors import ConfigError
 
@@ -56,6 +58,22 @@ class GeardynConfig(Mechanism):
         if problems:
             raise ValueError("\n".join(problems))
         return self
+
+
+    sensors: list[SensorSpec] = Field(
+        default_factory=list, description="simulated sensors (see geardyn.config.sensors)"
+    )
+
+    @model_validator(mode="after")
+    def _check_sensors(self) -> GeardynConfig:
+        problems = check_sensors(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
+
+    diagnosis: DiagnosisSpec | None = Field(
+        None, description="baseline, thresholds and verdict (see geardyn.config.diagnosis)"
+    )
 
 
 def _loc_to_path(loc: tuple[Any, ...], data: Any) -> str:
