@@ -1,0 +1,253 @@
+"""Verdict per component: a record's indicators against the baseline thresholds.
+
+For each ``(component, indicator, channel)`` the record value is the median over the record's
+blocks of whole revolutions. An indicator alarms when it exceeds its upper threshold (or leaves
+the band of a two-sided one); a component is ``alarm`` when any of its indicators alarms,
+``healthy`` when it has at least one usable indicator and none alarms, and ``unknown`` when no
+indicator of it could be judged (no value, or no usable baseline threshold).
+
+Margin: ``value / threshold`` for higher-is-worse indicators (> 1 ⇔ alarm); for two-sided
+indicators, and for a threshold ≤ 0, ``|value − mean| / (k·σ)`` (> 1 ⇔ alarm as well).
+
+:meth:`Verdict.write` stores ``verdict.json`` (schema ``geardyn.verdict/1``, see
+docs/diagnosis.md).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from geardyn.diagnosis.baseline import KEYS, ThresholdRule, check_table, direction
+from geardyn.diagnosis.faults import ConfiguredFault
+
+SCHEMA = "geardyn.verdict/1"
+STATES = ("healthy", "alarm", "unknown")
+
+
+@dataclass(frozen=True)
+class IndicatorVerdict:
+    """One indicator of one component: record value, baseline statistics and threshold."""
+
+    value: float
+    threshold: float
+    lower: float | None
+    mean: float
+    std: float
+    sigma: float
+    n: int
+    margin: float
+    alarm: bool
+    direction: str
+    channel: str
+
+
+@dataclass
+class ComponentVerdict:
+    """State of one component and its indicators (keyed by indicator name, or
+    ``'channel:indicator'`` when several channels are judged)."""
+
+    component: str
+    kind: str
+    state: str
+    indicators: dict[str, IndicatorVerdict] = field(default_factory=dict)
+
+    @property
+    def alarms(self) -> list[str]:
+        """Names of the indicators in alarm."""
+        return [k for k, v in self.indicators.items() if v.alarm]
+
+    @property
+    def worst(self) -> tuple[str, float] | None:
+        """``(indicator, margin)`` with the largest finite margin, or None."""
+        items = [(k, v.margin) for k, v in self.indicators.items() if math.isfinite(v.margin)]
+        return max(items, key=lambda kv: kv[1]) if items else None
+
+
+@dataclass
+class Verdict:
+    """Verdict of one record: per-component states and the context they were judged in."""
+
+    machine: str
+    channels: list[str]
+    rule: ThresholdRule
+    components: dict[str, ComponentVerdict]
+    baseline: dict[str, Any] = field(default_factory=dict)
+    record: dict[str, Any] = field(default_factory=dict)
+    expected_faults: list[ConfiguredFault] | None = None
+    """Faults configured in the record (None: not known, e.g. a measured record)."""
+
+    @property
+    def alarms(self) -> list[str]:
+        """Components in alarm."""
+        return [c for c, v in self.components.items() if v.state == "alarm"]
+
+    def summary(self) -> dict[str, Any]:
+        """Counts, alarms and (with configured faults) whether the alarms match them."""
+        states = [v.state for v in self.components.values()]
+        out: dict[str, Any] = {
+            "alarms": self.alarms,
+            "counts": {s: states.count(s) for s in STATES},
+        }
+        if self.expected_faults is not None:
+            expected = sorted({f.component for f in self.expected_faults})
+            out["expected"] = expected
+            out["missed"] = [c for c in expected if c not in self.alarms]
+            out["unexpected"] = [c for c in self.alarms if c not in expected]
+            out["localised"] = not out["missed"] and not out["unexpected"]
+        return out
+
+    def table(self) -> pd.DataFrame:
+        """One row per component: ``component, kind, state, worst_indicator, margin``."""
+        rows = []
+        for name, c in self.components.items():
+            w = c.worst
+            rows.append({"component": name, "kind": c.kind, "state": c.state,
+                         "worst_indicator": w[0] if w else "",
+                         "margin": w[1] if w else math.nan})
+        return pd.DataFrame(rows, columns=["component", "kind", "state", "worst_indicator",
+                                           "margin"])
+
+    def indicator_table(self) -> pd.DataFrame:
+        """One row per judged indicator: component, kind, indicator, channel, value, mean, std,
+        sigma, lower, threshold, margin, alarm."""
+        rows = [
+            {"component": name, "kind": c.kind, "indicator": key, **asdict(v)}
+            for name, c in self.components.items()
+            for key, v in c.indicators.items()
+        ]
+        cols = ["component", "kind", "indicator", "channel", "value", "mean", "std", "sigma",
+                "lower", "threshold", "margin", "alarm"]
+        return pd.DataFrame(rows, columns=cols) if rows else pd.DataFrame(columns=cols)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (schema ``geardyn.verdict/1``; NaN → null)."""
+        comps = {}
+        for name, c in self.components.items():
+            w = c.worst
+            comps[name] = {
+                "kind": c.kind,
+                "state": c.state,
+                "alarms": c.alarms,
+                "worst": {"indicator": w[0], "margin": w[1]} if w else None,
+                "indicators": {k: asdict(v) for k, v in c.indicators.items()},
+            }
+        out = {
+            "schema": SCHEMA,
+            "machine": self.machine,
+            "channels": list(self.channels),
+            "rule": self.rule.describe(),
+            "k": self.rule.k,
+            "sigma_floor": self.rule.sigma_floor,
+            "baseline": self.baseline,
+            "record": self.record,
+            "expected_faults": (None if self.expected_faults is None
+                                else [asdict(f) for f in self.expected_faults]),
+            "components": comps,
+            "summary": self.summary(),
+        }
+        return _clean(out)
+
+    def write(self, path: str | Path) -> Path:
+        """Write ``verdict.json`` (or ``path`` itself if it ends in ``.json``)."""
+        p = Path(path)
+        if p.suffix != ".json":
+            p = p / "verdict.json"
+        p.write_text(json.dumps(self.to_dict(), indent=2, ensure_ascii=False) + "\n")
+        return p
+
+
+def _clean(obj: Any) -> Any:
+    """NaN/inf → None and numpy scalars → Python, recursively (strict JSON)."""
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _margin(value: float, th: pd.Series, k: float) -> float:
+    if th["direction"] == "upper" and th["upper"] > 0:
+        return value / float(th["upper"])
+    return abs(value - float(th["mean"])) / (k * float(th["sigma"]))
+
+
+def _alarm(value: float, th: pd.Series) -> bool:
+    if value > th["upper"]:
+        return True
+    return th["direction"] == "two-sided" and value < th["lower"]
+
+
+def record_values(record: pd.DataFrame) -> pd.DataFrame:
+    """Median over the blocks of a record per ``(component, kind, indicator, channel)``
+    (non-finite values ignored; NaN when none is finite)."""
+    rows = check_table(record, "record table")
+    rows = rows[np.isfinite(rows["value"])]
+    return rows.groupby(KEYS, sort=False)["value"].median().reset_index()
+
+
+def judge(
+    record: pd.DataFrame,
+    thresholds: pd.DataFrame,
+    rule: ThresholdRule,
+    *,
+    machine: str = "",
+    baseline: dict[str, Any] | None = None,
+    record_info: dict[str, Any] | None = None,
+    expected_faults: Sequence[ConfiguredFault] | None = None,
+) -> Verdict:
+    """Verdict of a record's indicator table against thresholds from
+    :func:`geardyn.diagnosis.baseline.thresholds` (computed with the same ``rule``)."""
+    values = record_values(record)
+    th = thresholds.set_index(KEYS)
+    channels = sorted(set(values["channel"]) | set(thresholds["channel"]))
+    multi = len(channels) > 1
+    comps: dict[str, ComponentVerdict] = {}
+    order = list(dict.fromkeys([*thresholds["component"], *check_table(record)["component"]]))
+    kinds = dict(zip(thresholds["component"], thresholds["kind"], strict=False))
+    kinds.update(dict(zip(record["component"], record["kind"], strict=False)))
+    for name in order:
+        comps[name] = ComponentVerdict(str(name), str(kinds[name]), "unknown")
+    for _, r in values.iterrows():
+        key = (r["component"], r["kind"], r["indicator"], r["channel"])
+        if direction(str(r["indicator"])) == "none" or key not in th.index:
+            continue
+        t = th.loc[key]
+        if not bool(t["usable"]):
+            continue
+        value = float(r["value"])
+        iv = IndicatorVerdict(
+            value=value,
+            threshold=float(t["upper"]),
+            lower=None if t["direction"] == "upper" else float(t["lower"]),
+            mean=float(t["mean"]), std=float(t["std"]), sigma=float(t["sigma"]), n=int(t["n"]),
+            margin=_margin(value, t, rule.k), alarm=bool(_alarm(value, t)),
+            direction=str(t["direction"]), channel=str(r["channel"]),
+        )
+        name = f"{r['channel']}:{r['indicator']}" if multi else str(r["indicator"])
+        comps[r["component"]].indicators[name] = iv
+    for c in comps.values():
+        if c.indicators:
+            c.state = "alarm" if c.alarms else "healthy"
+    return Verdict(
+        machine=machine, channels=channels, rule=rule, components=comps,
+        baseline=dict(baseline or {}), record=dict(record_info or {}),
+        expected_faults=None if expected_faults is None else list(expected_faults),
+    )
+
+
+def read_verdict(path: str | Path) -> dict[str, Any]:
+    """A ``verdict.json`` as a dictionary (``path`` a file or the directory holding it)."""
+    p = Path(path)
+    return json.loads((p / "verdict.json" if p.is_dir() else p).read_text())

@@ -1,0 +1,179 @@
+"""Baseline thresholds and verdicts on synthetic indicator tables with known mean and spread,
+and the fault bookkeeping of configs (healthy variant, fault list)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import geardyn
+from geardyn.config.loader import parse_config
+from geardyn.diagnosis.baseline import ThresholdRule, thresholds
+from geardyn.diagnosis.faults import fault_list, healthy_variant
+from geardyn.diagnosis.verdict import judge, read_verdict, record_values
+from geardyn.errors import InputError
+from tests.conftest import EXAMPLES
+
+
+def table(values: dict[tuple[str, str, str], list[float]], channel: str = "acc") -> pd.DataFrame:
+    """Long indicator table: one row per (component, kind, indicator) and block."""
+    rows = [
+        {"component": c, "kind": k, "indicator": i, "value": v, "block": b, "channel": channel}
+        for (c, k, i), vals in values.items()
+        for b, v in enumerate(vals)
+    ]
+    return pd.DataFrame(rows)
+
+
+def row(th: pd.DataFrame, component: str, indicator: str) -> pd.Series:
+    return th[(th["component"] == component) & (th["indicator"] == indicator)].iloc[0]
+
+
+def test_threshold_is_mean_plus_k_std_pooled_over_tables() -> None:
+    # two seeds × 2 blocks: pooled 1, 3, 5, 7 → mean 4, sample std sqrt(20/3)
+    a = table({("sun", "sun", "FM4"): [1.0, 3.0]})
+    b = table({("sun", "sun", "FM4"): [5.0, 7.0]})
+    th = thresholds([a, b], ThresholdRule(k=3.0, sigma_floor=0.05))
+    r = row(th, "sun", "FM4")
+    s = math.sqrt(20.0 / 3.0)
+    assert r["n"] == 4
+    assert r["mean"] == pytest.approx(4.0)
+    assert r["std"] == pytest.approx(s)
+    assert r["sigma"] == pytest.approx(s)  # 5 % of 4 = 0.2 < s: no floor
+    assert r["upper"] == pytest.approx(4.0 + 3.0 * s)
+    assert math.isnan(r["lower"]) and r["direction"] == "upper" and r["usable"]
+
+
+def test_sigma_floor_for_a_deterministic_baseline() -> None:
+    # identical seeds: std 1e-12 → σ = 5 % of |μ| = 0.15, threshold 3 + 3·0.15 = 3.45
+    base = table({("ring", "ring", "FM4"): [3.0, 3.0 + 1e-12, 3.0, 3.0 - 1e-12]})
+    th = thresholds(base, ThresholdRule(k=3.0, sigma_floor=0.05))
+    r = row(th, "ring", "FM4")
+    assert r["sigma"] == pytest.approx(0.15)
+    assert r["upper"] == pytest.approx(3.45)
+    # noise-level record does not alarm; a 20 % rise does
+    v = judge(table({("ring", "ring", "FM4"): [3.0 + 1e-9] * 4}), th, ThresholdRule())
+    assert v.components["ring"].state == "healthy"
+    v = judge(table({("ring", "ring", "FM4"): [3.6] * 4}), th, ThresholdRule())
+    assert v.components["ring"].state == "alarm"
+    assert v.components["ring"].indicators["FM4"].margin == pytest.approx(3.6 / 3.45)
+
+
+def test_two_sided_indicator_alarms_below_the_band() -> None:
+    base = table({("sun", "sun", "skewness"): [-0.1, 0.1, -0.1, 0.1]})
+    th = thresholds(base, ThresholdRule(k=3.0, sigma_floor=0.05))
+    r = row(th, "sun", "skewness")
+    s = float(np.std([-0.1, 0.1, -0.1, 0.1], ddof=1))
+    assert r["direction"] == "two-sided"
+    assert r["lower"] == pytest.approx(-3 * s) and r["upper"] == pytest.approx(3 * s)
+    v = judge(table({("sun", "sun", "skewness"): [-1.0] * 3}), th, ThresholdRule())
+    iv = v.components["sun"].indicators["skewness"]
+    assert iv.alarm and iv.margin == pytest.approx(1.0 / (3 * s))
+
+
+def test_verdict_median_over_blocks_alarms_and_unknown() -> None:
+    base = table({
+        ("sun", "sun", "FM4"): [3.0, 3.2, 2.8, 3.0],
+        ("sun", "sun", "rms"): [1.0, 1.1, 0.9, 1.0],
+        ("planet1", "planet", "FM4"): [3.0, 3.1, 2.9, 3.0],
+        ("carrier", "shaft", "rms"): [np.nan] * 4,  # no usable threshold
+    })
+    rule = ThresholdRule()
+    th = thresholds(base, rule)
+    # one wild block does not move the median: sun FM4 blocks 9, 9, 9, 3 → median 9 alarms;
+    # planet blocks 3, 3, 3, 30 → median 3 stays healthy
+    rec = table({
+        ("sun", "sun", "FM4"): [9.0, 9.0, 9.0, 3.0],
+        ("sun", "sun", "rms"): [1.0, 1.0, 1.0, 1.0],
+        ("planet1", "planet", "FM4"): [3.0, 3.0, 3.0, 30.0],
+        ("carrier", "shaft", "rms"): [1.0] * 4,
+        ("ring", "ring", "FM4"): [3.0] * 4,  # not in the baseline
+    })
+    assert record_values(rec).set_index(["component", "indicator"]).loc[
+        ("planet1", "FM4"), "value"] == 3.0
+    v = judge(rec, th, rule, machine="m", expected_faults=[])
+    assert v.components["sun"].state == "alarm"
+    assert v.components["sun"].alarms == ["FM4"]
+    assert v.components["sun"].worst[0] == "FM4"
+    assert v.components["planet1"].state == "healthy"
+    assert v.components["carrier"].state == "unknown"
+    assert v.components["ring"].state == "unknown"
+    assert v.alarms == ["sun"]
+    s = v.summary()
+    assert s["counts"] == {"healthy": 1, "alarm": 1, "unknown": 2}
+    assert s["unexpected"] == ["sun"] and not s["localised"]
+
+
+def test_verdict_json_schema(tmp_path) -> None:
+    base = table({("sun", "sun", "FM4"): [3.0, 3.1, 2.9], ("sun", "sun", "NA4"): [3.0] * 3})
+    rule = ThresholdRule(k=2.5, sigma_floor=0.1)
+    v = judge(table({("sun", "sun", "FM4"): [5.0]}), thresholds(base, rule), rule,
+              machine="reclaimer", baseline={"seeds": [0, 1, 2]}, record_info={"seed": 100})
+    path = v.write(tmp_path)
+    assert path.name == "verdict.json"
+    text = path.read_text()
+    assert "NaN" not in text  # strict JSON
+    d = read_verdict(tmp_path)
+    assert d["schema"] == "geardyn.verdict/1"
+    assert d["machine"] == "reclaimer" and d["channels"] == ["acc"]
+    assert d["k"] == 2.5 and d["sigma_floor"] == 0.1 and "2.5·σ" in d["rule"]
+    assert d["baseline"]["seeds"] == [0, 1, 2] and d["record"]["seed"] == 100
+    ind = d["components"]["sun"]["indicators"]["FM4"]
+    assert set(ind) >= {"value", "threshold", "mean", "std", "margin", "alarm"}
+    assert ind["alarm"] is True and d["components"]["sun"]["state"] == "alarm"
+    assert "NA4" not in d["components"]["sun"]["indicators"]  # no record value
+    assert d["summary"]["alarms"] == ["sun"]
+    assert d["expected_faults"] is None and "localised" not in d["summary"]
+    json.dumps(d, allow_nan=False)
+
+
+def test_several_channels_are_kept_apart() -> None:
+    base = pd.concat([table({("sun", "sun", "FM4"): [3.0, 3.0]}, "acc"),
+                      table({("sun", "sun", "FM4"): [10.0, 10.0]}, "ias")])
+    th = thresholds(base)
+    assert len(th) == 2
+    rec = pd.concat([table({("sun", "sun", "FM4"): [3.0]}, "acc"),
+                     table({("sun", "sun", "FM4"): [20.0]}, "ias")])
+    v = judge(rec, th, ThresholdRule())
+    assert v.channels == ["acc", "ias"]
+    assert v.components["sun"].alarms == ["ias:FM4"]
+
+
+def test_bad_inputs_name_the_field() -> None:
+    with pytest.raises(InputError, match="k: threshold factor"):
+        ThresholdRule(k=0)
+    with pytest.raises(InputError, match="sigma_floor"):
+        ThresholdRule(sigma_floor=1.5)
+    with pytest.raises(InputError, match="missing column.*block"):
+        thresholds(pd.DataFrame({"component": ["a"], "kind": ["sun"], "indicator": ["FM4"],
+                                 "value": [1.0], "channel": ["x"]}))
+    with pytest.raises(InputError, match="no indicator table"):
+        thresholds([])
+
+
+def test_healthy_variant_and_fault_list_planetary() -> None:
+    cfg = geardyn.load_config(EXAMPLES / "planetary_reclaimer.toml")
+    faults = fault_list(cfg)
+    assert [(f.component, f.kind) for f in faults] == [("planetary.sun", "wheel")]
+    assert "20%" in faults[0].description
+    assert faults[0].field == "planetary_dynamics.stages[0].faults[0]"
+    healthy = healthy_variant(cfg)
+    assert fault_list(healthy) == []
+    assert healthy.planetary_dynamics.stages[0].transmission_error  # the rest is kept
+    assert cfg.planetary_dynamics.stages[0].faults  # the input is not modified
+
+
+def test_healthy_variant_and_fault_list_transmission() -> None:
+    data = geardyn.load_config(EXAMPLES / "seed002_transmission.toml").model_dump()
+    data["transmission"]["bearings"][1]["outer_spall"] = {
+        "angle_deg": 270.0, "angular_length_deg": 5.0, "depth_m": 1e-4}
+    low = next(g for g in data["gear_geometry"] if g["pair"] == "low")
+    low["cracks"] = [{"gear": "a", "depth_m": 1e-3}]
+    cfg = parse_config(data)
+    got = {(f.component, f.kind) for f in fault_list(cfg)}
+    assert got == {("intermediate/z42", "wheel"), ("output roller", "bearing")}
+    assert fault_list(healthy_variant(cfg)) == []
