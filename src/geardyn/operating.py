@@ -4,11 +4,16 @@ carrier-inertia schedules (SI units: s, rad, rad/s, N·m, kg·m²; rpm only wher
 Sources: seed 004 §6.3-6.7 (notes §2.9: TorM piecewise motor curve, fluid coupling eq 6.6,
 bucket-wheel schedule, torqueOUT load), seed 003 eqs 1.17-1.19 (induction-motor torque–slip
 curve), seed 003 ch. 4 (run-up, run-down, variable-speed ramps of the inverter).
+
+Profiles are piecewise linear through ``[[t_s, value], …]`` and held outside their span: a run
+longer than its profile keeps the last value (the speed control keeps turning at the last
+speed), with a :class:`ProfileWarning` naming the profile (:func:`held_profile`).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,14 +26,52 @@ RPM = 2 * math.pi / 60.0
 # ---- speed / torque profiles ----------------------------------------------------------------
 
 
-def ramp_profile(t: np.ndarray, points: list[tuple[float, float]]) -> np.ndarray:
-    """Piecewise-linear profile through (time s, value) points, held outside."""
-    if len(points) < 1:
-        raise InputError("a profile needs at least one (time, value) point")
-    ts = np.array([p[0] for p in points], float)
+class ProfileWarning(UserWarning):
+    """A speed or torque profile does not cover the run: its end values are held."""
+
+
+def profile_points(points: object, field: str = "profile") -> tuple[np.ndarray, np.ndarray]:
+    """``(times s, values)`` of a piecewise-linear profile ``[[t, value], …]``, checked: at
+    least one point, finite numbers, strictly increasing times (errors name ``field``)."""
+    a = np.asarray(points, dtype=float) if points is not None else np.zeros((0, 2))
+    if a.ndim != 2 or a.shape[1] != 2 or a.shape[0] < 1:
+        raise InputError(f"{field}: a profile needs at least one [time, value] point "
+                         f"(got {points!r})")
+    if not np.all(np.isfinite(a)):
+        raise InputError(f"{field}: profile points must be finite (got {a.tolist()})")
+    ts = a[:, 0]
     if np.any(np.diff(ts) <= 0):
-        raise InputError(f"profile times must increase strictly (got {ts.tolist()})")
-    return np.interp(t, ts, [p[1] for p in points])
+        raise InputError(f"{field}: profile times must increase strictly (got {ts.tolist()})")
+    return ts, a[:, 1]
+
+
+def held_profile(points: object, t_end: float, field: str = "profile", unit: str = "",
+                 stacklevel: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """``(times s, values)`` of a profile covering the run ``[0, t_end]``.
+
+    Past its last point the last value is held to ``t_end`` (and before its first point the
+    first value from 0); each extension emits a :class:`ProfileWarning` naming ``field``, e.g.
+    ``"….profile_rpm ends at 1 s; holding 1500 rpm to t_end 2 s"``; ``stacklevel`` as in
+    :func:`warnings.warn` (2: the caller of this function).
+    """
+    ts, ys = profile_points(points, field)
+    u = f" {unit}" if unit else ""
+    if ts[0] > 0.0:
+        warnings.warn(f"{field} starts at {ts[0]:g} s; holding {ys[0]:g}{u} from t = 0 s",
+                      ProfileWarning, stacklevel=stacklevel)
+        ts, ys = np.concatenate([[0.0], ts]), np.concatenate([ys[:1], ys])
+    if t_end > ts[-1]:
+        warnings.warn(f"{field} ends at {ts[-1]:g} s; holding {ys[-1]:g}{u} to t_end {t_end:g} s",
+                      ProfileWarning, stacklevel=stacklevel)
+        ts, ys = np.concatenate([ts, [t_end]]), np.concatenate([ys, ys[-1:]])
+    return ts, ys
+
+
+def ramp_profile(t: np.ndarray, points: list[tuple[float, float]], field: str = "profile"
+                 ) -> np.ndarray:
+    """Piecewise-linear profile through (time s, value) points, held outside."""
+    ts, ys = profile_points(points, field)
+    return np.interp(t, ts, ys)
 
 
 def run_up(t: np.ndarray, w0: float, w1: float, t0: float, t1: float) -> np.ndarray:
@@ -42,6 +85,25 @@ def integrate_angle(t: np.ndarray, w: np.ndarray, theta0: float = 0.0) -> np.nda
     out[0] = theta0
     out[1:] = theta0 + np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))
     return out
+
+
+def reference_angle_table(ts: np.ndarray, w: np.ndarray, tol_rad: float = 1e-8,
+                          max_per_segment: int = 100_000) -> tuple[np.ndarray, np.ndarray]:
+    """``(t s, θ rad)`` table of θ(t) = ∫ω dt for the piecewise-linear speed ω (rad/s) through
+    ``(ts, w)``, with θ(0) = 0: the reference angle of a speed control.
+
+    Constant-speed segments need only their ends (θ is linear there); a ramp of n sub-steps
+    has the linear-interpolation error |Δω|·Δt/(8n²), so n is chosen to keep it below
+    ``tol_rad`` (at most ``max_per_segment``). The trapezoidal rule is exact on this grid.
+    """
+    pieces = [np.asarray(ts[:1], float)]
+    for a, b, wa, wb in zip(ts[:-1], ts[1:], w[:-1], w[1:], strict=True):
+        err = abs(wb - wa) * (b - a) / (8.0 * tol_rad)
+        n = 1 if err <= 1.0 else int(min(max_per_segment, math.ceil(math.sqrt(err))))
+        pieces.append(np.linspace(a, b, n + 1)[1:])
+    tt = np.concatenate(pieces)
+    th = integrate_angle(tt, np.interp(tt, ts, w))
+    return tt, th - np.interp(0.0, tt, th)
 
 
 # ---- motors -----------------------------------------------------------------------------

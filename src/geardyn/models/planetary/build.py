@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn.config.planetary import PlanetaryDynamics, StageDynamics
-from geardyn.errors import ConfigError
+from geardyn.errors import ConfigError, InputError
 from geardyn.gears import seed004_params, square_wave, torsional_stiffness_curve
 from geardyn.gears.torsional import (
     pairs_in_contact,
@@ -24,7 +24,14 @@ from geardyn.models.planetary.model import (
     StageSpec,
     assemble,
 )
-from geardyn.operating import RPM, BucketWheelSchedule, KlossMotor, PiecewiseMotor
+from geardyn.operating import (
+    RPM,
+    BucketWheelSchedule,
+    KlossMotor,
+    PiecewiseMotor,
+    held_profile,
+    reference_angle_table,
+)
 from geardyn.solve.integrate import (
     FLUID_COUPLING,
     SPEED_CONTROL,
@@ -226,51 +233,61 @@ def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: in
 
 @dataclass
 class Prepared:
+    """Model, integrator system, mesh spring indices and initial state of a simulation;
+    ``t_end_s`` is the run end (s) that the speed and torque tables cover."""
+
     model: PlanetaryModel
     system: LinearSystem
     mesh_index: list[int]
     q0: np.ndarray
     v0: np.ndarray
+    t_end_s: float | None = None
 
 
-def prepare(cfg: object) -> Prepared:
-    """Model, integrator system and initial state of the config's simulation."""
+def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
+    """Model, integrator system and initial state of the config's simulation.
+
+    ``t_end_s`` is the run end (s; default the config's ``simulation.t_end_s``, e.g. a CLI
+    ``--t-end`` override). Speed and torque profiles that end before it hold their last value
+    to ``t_end_s`` with a :class:`~geardyn.operating.ProfileWarning` naming the profile.
+    """
     pd: PlanetaryDynamics | None = getattr(cfg, "planetary_dynamics", None)
     if pd is None:
         raise ConfigError("the config has no [planetary_dynamics] section")
     sim = pd.simulation
     if sim is None:
         raise ConfigError("planetary_dynamics.simulation is missing (t_end_s, dt_s, ...)")
+    t_end = sim.t_end_s if t_end_s is None else float(t_end_s)
+    if not t_end > 0:
+        raise ConfigError(f"t_end_s: the run end must be > 0 s (got {t_end_s!r})")
     model = model_from_config(cfg)
     laws = mesh_laws(cfg, model)
     names = model.names
     n = len(names)
     drives: list[dict] = []
-    nt = 2
-    t_grid = np.array([0.0, sim.t_end_s])
-    profiles = [t for t in sim.torques if t.profile]
+    where = "planetary_dynamics.simulation"
+    profiles = {}
+    for i, t in enumerate(sim.torques):
+        if t.profile:
+            profiles[i] = _held(t.profile, t_end, f"{where}.torques[{i}].profile", "N·m")
+    t_grid = np.array([0.0, t_end])
     if profiles:
-        t_grid = np.unique(np.concatenate([[0.0, sim.t_end_s]] + [
-            np.array([p[0] for p in t.profile]) for t in profiles]))  # type: ignore[union-attr]
-        nt = len(t_grid)
-        # uniform grid for the kernel's table lookup
-        t_grid = np.linspace(0.0, max(sim.t_end_s, t_grid[-1]), max(nt, 2001))
+        t_grid = np.unique(np.concatenate([t_grid] + [ts for ts, _ in profiles.values()]))
+        # uniform grid for the kernel's table lookup (held at its ends)
+        t_grid = np.linspace(0.0, t_grid[-1], max(len(t_grid), 2001))
     force = np.zeros((len(t_grid), n))
-    for t in sim.torques:
+    for i, t in enumerate(sim.torques):
         b = model.body(t.body)
         j = model.dof(_udof(model, t.body))
-        if t.profile:
-            tq = np.interp(t_grid, [p[0] for p in t.profile], [p[1] for p in t.profile])
-        else:
-            tq = np.full(len(t_grid), t.torque_nm)
+        tq = np.interp(t_grid, *profiles[i]) if i in profiles else t.torque_nm
         force[:, j] += tq / b.radius
-    for sc in sim.speed_controls:
+    for i, sc in enumerate(sim.speed_controls):
         b = model.body(sc.body)
-        ts = np.array([p[0] for p in sc.profile_rpm])
-        w = np.array([p[1] for p in sc.profile_rpm]) * RPM
-        tt = np.linspace(ts[0], ts[-1], 4001) if len(ts) > 1 else ts
-        ww = np.interp(tt, ts, w)
-        th = np.concatenate([[0.0], np.cumsum(0.5 * (ww[1:] + ww[:-1]) * np.diff(tt))])
+        ts, rpm = _held(sc.profile_rpm, t_end, f"{where}.speed_controls[{i}].profile_rpm", "rpm")
+        t_pad = 1.01 * t_end + 1e-3  # the kernel takes dθ_ref/dt over ±1e-6·span at t_end too
+        if ts[-1] < t_pad:
+            ts, rpm = np.append(ts, t_pad), np.append(rpm, rpm[-1])
+        tt, th = reference_angle_table(ts, rpm * RPM)
         drives.append(dict(kind=SPEED_CONTROL, a=model.dof(_udof(model, sc.body)),
                            ha=1.0 / b.radius, p0=sc.stiffness_nm_per_rad,
                            p1=sc.damping_nms_per_rad, x=tt, y=th))
@@ -329,7 +346,15 @@ def prepare(cfg: object) -> Prepared:
                 name = f"{info.bodies[f'planet{i + 1}']}.bearing.eta"
                 j = [k for k, s in enumerate(model.springs) if s.name == name][0]
                 sys.force[:, :] -= model.springs[j].k * (-e) * a[j]
-    return Prepared(model, sys, idx, q0, v0)
+    return Prepared(model, sys, idx, q0, v0, t_end)
+
+
+def _held(points: object, t_end: float, field: str, unit: str) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`~geardyn.operating.held_profile` with input errors reported as config errors."""
+    try:
+        return held_profile(points, t_end, field, unit, stacklevel=4)
+    except InputError as e:
+        raise ConfigError(str(e)) from None
 
 
 def _udof(model: PlanetaryModel, body: str) -> str:
