@@ -64,14 +64,16 @@ def _call(kind, k, a0, pd, x, y=0.0, z=0.0, theta=0.0, spall=(0.0, 0.0, 0.0), z_
     v = np.zeros(6)
     f = np.zeros(6)
     diss = np.zeros(5)
-    bl = np.zeros(1)
+    bl = np.zeros((1, 3))
     bearing_forces(
         q, v, f, diss, np.array([0]), np.array([kind]), np.array([z_el]), np.array([k]),
         np.array([a0]), np.array([pd]), np.array([0.5 * (1 - D / DM)]), np.array([DM]),
         np.array([0.0]), np.array([0.0]), np.array([1e8]), np.array([0.0]),
         np.array([spall[0]]), np.array([spall[1]]), np.array([spall[2]]), bl,
     )
-    return f, bl[0]
+    # action-reaction: the force on the housing is minus the force on the shaft
+    assert bl[0, 1:] == pytest.approx(-f[:2], abs=1e-9 * (1 + np.abs(f[:2]).max()))
+    return f, bl[0, 0]
 
 
 @pytest.mark.parametrize("kind", [0, 1])

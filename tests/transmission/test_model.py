@@ -63,7 +63,7 @@ def test_static_mesh_force_and_te_match_gears_modules(model) -> None:
             assert defl[i] == pytest.approx(ref, rel=tol), (i, xi[i])
         # helical stage: the input-shaft bearings (ball + roller flanges) carry F tan β_b
         f = np.zeros(model.ndof)
-        bl = np.zeros(model.bearings.node.size)
+        bl = np.zeros((model.bearings.node.size, 3))
         bearing_forces(q, np.zeros_like(q), f, np.zeros(5), *model.bearings.args(), bl)
         fz = sum(f[6 * model.node_of("input", k) + 2] for k in (1, 5))
         fax = math.tan(gh.base_helix_angle) * f_high

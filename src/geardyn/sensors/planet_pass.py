@@ -59,11 +59,36 @@ def planet_pass_signal(
         raise InputError("phases: needs one phase per harmonic amplitude")
     if mesh_phase_sign not in (-1, 1):
         raise InputError(f"mesh_phase_sign: must be -1 or +1, got {mesh_phase_sign!r}")
+    windows = planet_pass_windows(th, n, psi, sensor_angle, gating)
+    out = np.zeros_like(th)
+    for j in range(n):
+        mesh = np.zeros_like(th)
+        for h, (a, p) in enumerate(zip(amp, ph, strict=True), start=1):
+            mesh += a * np.cos(h * zr * (th + mesh_phase_sign * psi[j]) + p)
+        out += windows[j] * mesh
+    return out
+
+
+def planet_pass_windows(
+    carrier_angle: np.ndarray,
+    n_planets: int,
+    planet_angles: Sequence[float] | np.ndarray | None = None,
+    sensor_angle: float = 0.0,
+    gating: str = "centred",
+) -> np.ndarray:
+    """Transfer-path weights ``w_n(θ_c)`` of each planet for a ring-mounted sensor, shape
+    (n_planets, len(carrier_angle)): Hann lobe ``½(1 − cos(N·rel))`` (seed 003 eqs
+    4.10-4.11) gated to the ``2π/N`` interval in which planet n is nearest the sensor (4.12,
+    ``centred`` gate; ``thesis`` keeps the printed gate). Planet n passes the sensor at carrier
+    angle ``sensor_angle + ψ_n + π/N``, where its weight is 1."""
+    th = array1d("carrier_angle", carrier_angle, 1, "carrier angle")
+    n = positive_int("n_planets", n_planets, "number of planets")
+    psi = planet_angles_checked(planet_angles, n)
     if gating not in ("centred", "thesis"):
         raise InputError(f"gating: must be 'centred' or 'thesis', got {gating!r}")
     two_pi = 2.0 * np.pi
     lobe = two_pi / n
-    out = np.zeros_like(th)
+    out = np.zeros((n, th.size))
     for j in range(n):
         rel = th - sensor_angle - psi[j]  # planet j reaches the window start at rel = 0
         w = 0.5 * (1.0 - np.cos(n * rel))  # (4.10)-(4.11)
@@ -71,10 +96,7 @@ def planet_pass_signal(
             gate = np.mod(rel, two_pi) < lobe  # lobe centred on passage ψ_j + π/N
         else:  # printed (4.12): planet j gated to [(j)2π/N, (j+1)2π/N) regardless of ψ
             gate = np.floor(np.mod(th - sensor_angle, two_pi) / lobe) == j
-        mesh = np.zeros_like(th)
-        for h, (a, p) in enumerate(zip(amp, ph, strict=True), start=1):
-            mesh += a * np.cos(h * zr * (th + mesh_phase_sign * psi[j]) + p)
-        out += w * gate * mesh
+        out[j] = w * gate
     return out
 
 

@@ -20,6 +20,7 @@ import xarray as xr
 from geardyn.errors import InputError
 from geardyn.gears import planet_mesh_phases
 from geardyn.models.planetary.model import PlanetaryModel
+from geardyn.results import finish, shaft_variables
 from geardyn.solve.integrate import (
     Drives,
     IntegrationResult,
@@ -225,9 +226,12 @@ def load_sharing(model: PlanetaryModel, stage: str, forces: dict[str, float]) ->
 
 
 def to_dataset(model: PlanetaryModel, res: IntegrationResult, idx: list[int],
-               attrs: dict | None = None) -> xr.Dataset:
-    """xarray output: q, v (time × dof), mesh stiffness, deflection (DTE), force per mesh,
-    load-sharing ratio per planet of every stage (seed 003 eq 5.1), bearing forces."""
+               attrs: dict | None = None, shaft_names: dict[str, str] | None = None
+               ) -> xr.Dataset:
+    """xarray output in the geardyn result layout (docs/results.md): angle, speed and rpm of
+    every body (``shaft``; ``shaft_names`` maps body → name, e.g. the mechanism link), q, v
+    (time × dof), mesh stiffness, deflection (DTE), force per mesh, load-sharing ratio per
+    planet of every stage (seed 003 eq 5.1), bearing forces."""
     names = model.names
     mesh_names = [model.springs[i].name for i in idx]
     k = res.k
@@ -246,6 +250,14 @@ def to_dataset(model: PlanetaryModel, res: IntegrationResult, idx: list[int],
         attrs={"status": res.status, "diagnosis": res.diagnosis, "wall_time_s": res.wall_s,
                **(attrs or {})},
     )
+    bodies = list(model.bodies)
+    rot = np.array([model.rotation_vector(b) for b in bodies])  # θ = R q (rad)
+    names_s = [(shaft_names or {}).get(b, b) for b in bodies]
+    ds = ds.assign(shaft_variables(res.t, names_s, res.q @ rot.T, res.v @ rot.T))
+    ds = ds.assign_coords(shaft=names_s, body=("shaft", bodies))
+    ref = next((n for b, n in zip(bodies, names_s, strict=True)
+                if model.bodies[b].kind == "rotor"), names_s[0])
+    finish(ds, "planetary", ref)
     # load sharing per stage
     for st, info in model.stages.items():
         per = []

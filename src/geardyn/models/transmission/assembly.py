@@ -418,7 +418,7 @@ def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray) ->
 
     f = np.zeros(model.ndof)
     diss = np.zeros(5)
-    bl = np.zeros(model.bearings.node.size)
+    bl = np.zeros((model.bearings.node.size, 3))
     mf = np.zeros(model.meshes.na.size)
     bearing_forces(q, v, f, diss, *model.bearings.args(), bl)
     mesh_forces(q, v, f, diss, *model.meshes.args(), mf)

@@ -42,18 +42,21 @@ def run_loop(
     drive_dof, load_dof, ref_dof, drive_sign, load_sign, ref_sign, load_torque,
     t_ref, w_ref, kp, ki, t0_drive, integ0, max_disp, rec_dofs,
 ):  # pragma: no cover - compiled
-    """Integrate; returns (records, energy, n_done, status). status 0 ok, 1 diverged."""
+    """Integrate; returns (records, energy, n_done, status). status 0 ok, 1 diverged.
+
+    Record columns: t, drive torque, angles and speeds of ``rec_dofs``, per bearing Σ Q_j,
+    then housing force x, then y (n_bearings each), mesh forces."""
     n = q.size
     nrec = n_steps // rec_every + 1
     nb = bargs[0].size
     nm = margs[0].size
     nd = rec_dofs.size
-    rec = np.zeros((nrec, 2 + 2 * nd + nb + nm))
+    rec = np.zeros((nrec, 2 + 2 * nd + 3 * nb + nm))
     energy = np.zeros(7)
     f = np.zeros(n)
     fext = np.zeros(n)
     diss = np.zeros(5)
-    bl = np.zeros(nb)
+    bl = np.zeros((nb, 3))
     mf = np.zeros(nm)
     integ = integ0
     t = 0.0
@@ -74,9 +77,10 @@ def run_loop(
                 rec[ir, 2 + j] = q[rec_dofs[j]]
                 rec[ir, 2 + nd + j] = v[rec_dofs[j]]
             for j in range(nb):
-                rec[ir, 2 + 2 * nd + j] = bl[j]
+                for c in range(3):
+                    rec[ir, 2 + 2 * nd + c * nb + j] = bl[j, c]
             for j in range(nm):
-                rec[ir, 2 + 2 * nd + nb + j] = mf[j]
+                rec[ir, 2 + 2 * nd + 3 * nb + j] = mf[j]
             ir += 1
         if step == n_steps:
             break

@@ -40,7 +40,8 @@ def bearing_forces(
     b_sp_ang, b_sp_len, b_sp_depth, b_load,
 ):  # pragma: no cover - compiled
     """Add bearing forces to ``f``; diss[0] += viscous power, diss[1] += rolling-resistance
-    power; ``b_load[i]`` receives Σ Q_j of bearing i."""
+    power; ``b_load[i]`` receives Σ Q_j of bearing i and the force (x, y) the bearing
+    transmits to the housing [N] (``b_load`` of shape (n_bearings, 3))."""
     for i in range(b_node.size):
         n0 = 6 * b_node[i]
         ux = q[n0]
@@ -94,7 +95,9 @@ def bearing_forces(
         f[n0 + 5] -= b_visc[i] * om + trr
         diss[0] += b_visc[i] * om * om
         diss[1] += trr * om
-        b_load[i] = qsum
+        b_load[i, 0] = qsum
+        b_load[i, 1] = -fx
+        b_load[i, 2] = -fy
 
 
 @njit(cache=True)

@@ -20,6 +20,7 @@ from geardyn.models.transmission.assembly import (
     static_equilibrium,
 )
 from geardyn.models.transmission.integrate import run_loop, stable_time_step
+from geardyn.results import finish, shaft_variables
 
 
 class SimulationDivergedError(GeardynError):
@@ -162,20 +163,25 @@ def simulate(
     nd = len(shafts)
     nb = model.bearings.node.size
     time = rec[:, 0]
+    sign = np.array([model.shaft_sign[s] for s in shafts])
+    o_b = 2 + 2 * nd
     ds = xr.Dataset(
         {
-            "drive_torque": ("time", rec[:, 1], {"units": "N·m"}),
-            "angle": (("time", "shaft"), rec[:, 2 : 2 + nd] * np.array(
-                [model.shaft_sign[s] for s in shafts]), {"units": "rad"}),
-            "speed": (("time", "shaft"), rec[:, 2 + nd : 2 + 2 * nd] * np.array(
-                [model.shaft_sign[s] for s in shafts]), {"units": "rad/s"}),
-            "bearing_load": (("time", "bearing"), rec[:, 2 + 2 * nd : 2 + 2 * nd + nb],
+            "drive_torque": ("time", rec[:, 1], {"units": "N·m", "long_name": "drive torque"}),
+            **shaft_variables(time, shafts, rec[:, 2 : 2 + nd] * sign,
+                              rec[:, 2 + nd : 2 + 2 * nd] * sign),
+            "bearing_load": (("time", "bearing"), rec[:, o_b : o_b + nb],
                              {"units": "N", "long_name": "Σ rolling-element loads"}),
-            "mesh_force": (("time", "mesh"), rec[:, 2 + 2 * nd + nb :],
+            "bearing_force": (("time", "bearing", "axis"),
+                              np.stack([rec[:, o_b + nb : o_b + 2 * nb],
+                                        rec[:, o_b + 2 * nb : o_b + 3 * nb]], axis=-1),
+                              {"units": "N", "long_name": "force of the bearing on the housing"}),
+            "mesh_force": (("time", "mesh"), rec[:, o_b + 3 * nb :],
                            {"units": "N", "long_name": "normal force, transverse LOA"}),
         },
         coords={"time": ("time", time, {"units": "s"}), "shaft": shafts,
-                "bearing": model.bearings.names, "mesh": model.meshes.names},
+                "bearing": model.bearings.names, "mesh": model.meshes.names,
+                "axis": ["x", "y"]},
     )
     names = ["input_J", "output_J", "bearing_viscous_J", "rolling_resistance_J",
              "gear_friction_J", "squeeze_film_J", "modal_damping_J"]
@@ -188,7 +194,11 @@ def simulate(
         "wall_integrate_s": t_run, "reference_shaft": ref_shaft,
         "natural_frequencies_hz": prep.frequencies_hz[prep.frequencies_hz > 1.0][:30],
     })
+    finish(ds, "transmission", ref_shaft)
     if status != 0:
+        ds.attrs["status"] = "diverged"
+        ds.attrs["diagnosis"] = (f"diverged at t = {n_done * dt:.6f} s (step {n_done}): "
+                                 "displacements exceeded 50 mm or accelerations overflowed")
         raise SimulationDivergedError(
             f"simulation diverged at t = {n_done * dt:.6f} s (step {n_done}): displacements "
             "exceeded 50 mm or accelerations overflowed; reduce simulation.time_step_s or check "

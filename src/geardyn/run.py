@@ -1,0 +1,141 @@
+"""Run the config's dynamic model and its sensors: one entry point for every simulator.
+
+:func:`run_simulation` picks the model from the config (``[planetary_dynamics]`` lumped model
+or ``[transmission]`` FE model), integrates it and applies ``[[sensors]]``; the result is in the
+layout of docs/results.md whatever the model.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable
+
+import numpy as np
+import xarray as xr
+
+from geardyn.errors import ConfigError, InputError
+from geardyn.sensors.channels import RingSet, SensorContext, apply_sensors
+
+
+def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: ANN001
+                   revolutions: float | None = None,
+                   progress: Callable[[float], None] | None = None) -> xr.Dataset:
+    """Simulate ``cfg`` and measure it with its sensors.
+
+    ``seed`` drives every random draw of the run (sensor noise, graduation errors, the seed 004
+    random impulse errors when enabled): the same config and seed give the same result.
+    ``t_end_s`` overrides the planetary run length, ``revolutions`` the FE speed law's.
+    A diverged run returns its partial result with ``status = 'diverged'`` (no exception).
+    """
+    if not isinstance(seed, int | np.integer) or seed < 0:
+        raise InputError(f"seed: must be an integer >= 0, got {seed!r}")
+    if t_end_s is not None and not (math.isfinite(t_end_s) and t_end_s > 0):
+        raise InputError(f"t_end_s: must be a finite time > 0 s, got {t_end_s!r}")
+    pdyn = getattr(cfg, "planetary_dynamics", None)
+    if pdyn is not None and pdyn.simulation is not None:
+        ds, ctx = _planetary(cfg, int(seed), t_end_s, progress)
+    elif getattr(cfg, "transmission", None) is not None:
+        ds, ctx = _transmission(cfg, revolutions, t_end_s)
+    else:
+        raise ConfigError("nothing to simulate: the config has neither "
+                          "[planetary_dynamics.simulation] nor [transmission]")
+    ds.attrs["seed"] = int(seed)
+    if getattr(cfg, "sensors", None):
+        apply_sensors(ds, list(cfg.sensors), int(seed), ctx)
+    return ds
+
+
+def _reference(cfg, names: list[str]) -> str:  # noqa: ANN001
+    for link in (getattr(cfg, "input_speeds_rpm", None) or {}):
+        if link in names:
+            return link
+    return names[0]
+
+
+def _seeded(cfg, seed: int):  # noqa: ANN001, ANN202
+    """The config with the seed 004 random impulse errors re-seeded for run ``seed``."""
+    pd = cfg.planetary_dynamics
+    if seed == 0 or not any(sd.random_error_max_m > 0 for sd in pd.stages):
+        return cfg
+    stages = [sd.model_copy(update={"random_error_seed": sd.random_error_seed + 1_000_003 * seed})
+              for sd in pd.stages]
+    return cfg.model_copy(update={"planetary_dynamics": pd.model_copy(update={"stages": stages})})
+
+
+def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> tuple[xr.Dataset,  # noqa: ANN001
+                                                                          SensorContext]:
+    from geardyn.models.planetary.build import prepare
+    from geardyn.models.planetary.dynamics import to_dataset
+    from geardyn.solve.integrate import newmark
+
+    cfg = _seeded(cfg, seed)
+    sim = cfg.planetary_dynamics.simulation
+    t1 = sim.t_end_s if t_end_s is None else t_end_s
+    import inspect
+
+    kw = {"t_end_s": t1} if "t_end_s" in inspect.signature(prepare).parameters else {}
+    p = prepare(cfg, **kw)
+    model = p.model
+    names = body_links(cfg, model)
+    res = newmark(p.system, p.q0, p.v0, t1, sim.dt_s, save_every=sim.save_every,
+                  alpha=sim.hht_alpha, progress=progress)
+    ds = to_dataset(model, res, p.mesh_index, {"dt_s": sim.dt_s, "hht_alpha": sim.hht_alpha},
+                    shaft_names=names)
+    shaft_list = [str(s) for s in ds["shaft"].values]
+    ref = _reference(cfg, shaft_list)
+    ds.attrs["reference_shaft"] = ref
+    ctx = SensorContext(ref)
+    for st, info in model.stages.items():
+        planets = [info.bodies[f"planet{i + 1}"] for i in range(len(info.psi))]
+        ctx.rings[st] = RingSet(names[info.bodies["carrier"]], names[info.bodies["ring"]],
+                                np.asarray(info.psi, float),
+                                [f"{pl}.mesh_ring" for pl in planets])
+    if "bearing" in ds.coords:
+        for b in ds["bearing"].values:
+            body, _, axis = str(b).rpartition(".bearing.")
+            d = {"x": "x", "y": "y", "zeta": "x", "eta": "y"}.get(axis)
+            if d:
+                ctx.bearings[(body, d)] = ("bearing_force", {"bearing": str(b)})
+    return ds, ctx
+
+
+def body_links(cfg, model) -> dict[str, str]:  # noqa: ANN001
+    """Shaft name of each planetary-model body: its mechanism link for sun, carrier and a
+    turning ring, the body name otherwise (planets, rotors, a ring fixed in the frame)."""
+    frame = getattr(cfg, "frame", None)
+    stages = {s.name: s for s in getattr(cfg, "planetary", [])}
+    out = {b: b for b in model.bodies}
+    for st, info in model.stages.items():
+        mech = stages.get(st)
+        if mech is None:
+            continue
+        for role in ("sun", "carrier", "ring"):
+            link = getattr(mech, role, None)
+            if isinstance(link, str) and link != frame:
+                out[info.bodies[role]] = link
+    if len(set(out.values())) != len(out):  # two bodies on one link: keep body names
+        return {b: b for b in model.bodies}
+    return out
+
+
+def _transmission(cfg, revolutions: float | None, t_end_s: float | None  # noqa: ANN001
+                  ) -> tuple[xr.Dataset, SensorContext]:
+    from geardyn.models.transmission import simulate
+    from geardyn.models.transmission.simulate import SimulationDivergedError
+
+    if t_end_s is not None:
+        warnings.warn("t_end_s does not apply to the FE transmission (its speed law sets the "
+                      "run length); use revolutions", stacklevel=3)
+    try:
+        ds = simulate(cfg, revolutions=revolutions)
+    except SimulationDivergedError as exc:
+        ds = exc.result
+    ctx = SensorContext(str(ds.attrs.get("reference_shaft", ds["shaft"].values[0])))
+    for b in ds["bearing"].values:
+        for d in ("x", "y"):
+            ctx.bearings[(str(b), d)] = ("bearing_force", {"bearing": str(b), "axis": d})
+    links = {s.name: (s.link or s.name) for s in cfg.transmission.shafts}
+    ds = ds.assign_coords(link=("shaft", [links.get(str(s), str(s))
+                                          for s in ds["shaft"].values]))
+    return ds, ctx
