@@ -14,6 +14,17 @@ Decker (1993, NASA TM-106032) / Decker (2002, NASA TM-2002-211491):
 * energy ratio ER = RMS(d) / RMS(regular);
 * sideband level factor SLF = (amplitudes of the first-order sidebands of the mesh fundamental,
   orders Z ± 1) / RMS(TSA).
+
+Several wheels on one shaft (``teeth`` a sequence): FM0, ER, the residual and difference signals
+remove/count the mesh harmonics of **every** wheel. One wheel among several shares the shaft's
+TSA, so it is told apart by its own mesh sidebands (:func:`wheel_sideband_orders`): the orders
+``k·Z_w ± j`` (j = 1…J) that are not within ±J of another wheel's mesh harmonic. On those orders:
+
+* sideband energy ratio SER = Σ sideband amplitudes / Σ mesh-harmonic amplitudes of the wheel
+  (Hanna, Hatch, Kalb, Weiss & Luo 2011, "Detection of wind turbine gear tooth defects using
+  sideband energy ratio", GE Bently Nevada: SER with the first 6 sidebands of the mesh);
+* sideband kurtosis: FM4-like normalised kurtosis of the signal rebuilt from those sidebands
+  only (≈2.25 for a sinusoidal once-per-rev modulation, large for a local tooth fault).
 """
 
 from __future__ import annotations
@@ -25,7 +36,14 @@ from scipy.signal import hilbert
 
 from geardyn.errors import InputError
 from geardyn.signal._checks import array1d, positive_int
-from geardyn.signal.tsa import difference_signal, regular_signal, residual_signal
+from geardyn.signal.tsa import (
+    _mesh_orders,
+    difference_signal,
+    keep_orders,
+    regular_signal,
+    residual_signal,
+    tooth_counts,
+)
 
 
 def rms(x: np.ndarray) -> float:
@@ -73,14 +91,19 @@ def _norm_moment_zero_mean(d: np.ndarray, p: int) -> float:
     return float(n ** (p // 2 - 1) * np.sum(d**p) / s2 ** (p // 2))
 
 
-def fm0(tsa_signal: np.ndarray, teeth: int, mesh_harmonics: int | None = None) -> float:
-    """FM0 = peak-to-peak of the TSA / sum of mesh-harmonic amplitudes."""
+def _amplitudes(a: np.ndarray) -> np.ndarray:
+    """Single-sided amplitudes of the orders of a one-revolution signal (sine A reads A)."""
+    return np.abs(np.fft.rfft(a)) * 2.0 / a.size
+
+
+def fm0(
+    tsa_signal: np.ndarray, teeth: int | Sequence[int], mesh_harmonics: int | None = None
+) -> float:
+    """FM0 = peak-to-peak of the TSA / sum of the mesh-harmonic amplitudes of every wheel in
+    ``teeth`` (Stewart 1977; Zakrajsek, Townsend & Decker 1993)."""
     a = array1d("tsa_signal", tsa_signal, 4)
-    z = positive_int("teeth", teeth, "tooth count")
-    spec = np.abs(np.fft.rfft(a)) * 2.0 / a.size
-    kmax = (a.size // 2) // z if mesh_harmonics is None else mesh_harmonics
-    orders = [k * z for k in range(1, kmax + 1) if k * z < spec.size]
-    den = float(sum(spec[o] for o in orders))
+    spec = _amplitudes(a)
+    den = float(sum(spec[o] for o in _mesh_orders(a.size, teeth, mesh_harmonics)))
     if den == 0:
         raise InputError("tsa_signal: no mesh-harmonic content; FM0 undefined")
     return float((a.max() - a.min()) / den)
@@ -118,13 +141,16 @@ def na4(residual: np.ndarray, history: Sequence[np.ndarray] = ()) -> float:
 
 def nb4(
     tsa_signal: np.ndarray,
-    teeth: int,
+    teeth: int | Sequence[int],
     history: Sequence[np.ndarray] = (),
     half_band: int | None = None,
 ) -> float:
     """NB4: NA4 applied to the envelope of the TSA band-passed around the mesh fundamental
-    (orders ``Z ± half_band``, default ``Z/2``); ``history`` holds earlier TSAs."""
-    z = positive_int("teeth", teeth, "tooth count")
+    (orders ``Z ± half_band``, default ``Z/2``; Zakrajsek, Townsend & Decker 1993); ``history``
+    holds earlier TSAs. With several wheels (``teeth`` a sequence) the band is centred on the
+    first one and the mesh harmonics of the others are removed from it."""
+    counts = tooth_counts(teeth)
+    z = counts[0]
     hb = z // 2 if half_band is None else positive_int("half_band", half_band)
 
     def env(t: np.ndarray) -> np.ndarray:
@@ -132,20 +158,136 @@ def nb4(
         spec = np.fft.rfft(a)
         o = np.arange(spec.size)
         spec[(o < z - hb) | (o > z + hb)] = 0.0
+        if len(counts) > 1:
+            spec[_mesh_orders(a.size, counts[1:], None)] = 0.0
         return np.abs(hilbert(np.fft.irfft(spec, a.size)))
 
     cur = env(tsa_signal)
     return na4(cur, [env(h) for h in history])
 
 
-def energy_ratio(tsa_signal: np.ndarray, teeth: int, mesh_harmonics: int | None = None) -> float:
-    """ER = RMS(difference) / RMS(regular)."""
+def energy_ratio(
+    tsa_signal: np.ndarray, teeth: int | Sequence[int], mesh_harmonics: int | None = None
+) -> float:
+    """ER = RMS(difference) / RMS(regular), every wheel in ``teeth`` removed / kept
+    (Zakrajsek, Townsend & Decker 1993)."""
     reg = regular_signal(tsa_signal, teeth, mesh_harmonics)
     d = difference_signal(tsa_signal, teeth, mesh_harmonics)
     den = rms(reg)
     if den == 0:
         raise InputError("tsa_signal: no mesh-harmonic content; energy ratio undefined")
     return rms(d) / den
+
+
+def wheel_sideband_orders(
+    n: int,
+    teeth: int,
+    other_teeth: Sequence[int] = (),
+    sidebands: int = 3,
+    mesh_harmonics: int | None = None,
+) -> tuple[list[int], list[int]]:
+    """Mesh orders ``k·Z`` and unambiguous sideband orders ``k·Z ± j`` (j = 1…``sidebands``) of
+    one wheel in a one-revolution signal of ``n`` samples (orders up to ``n/2 − 1``).
+
+    A sideband is ambiguous, and left out, when it lies within ±``sidebands`` of a mesh harmonic
+    of another wheel of the same shaft (``other_teeth``); a mesh harmonic is left out when
+    another wheel has one at the same order. Returns ``(mesh_orders, sideband_orders)``.
+    """
+    nn = positive_int("n", n, "samples per revolution", minimum=4)
+    z = positive_int("teeth", teeth, "tooth count")
+    j_max = positive_int("sidebands", sidebands, "number of sidebands per side")
+    others = tooth_counts(other_teeth) if len(other_teeth) else ()
+    top = nn // 2 - 1
+    other_mesh = np.array(
+        sorted({k * zo for zo in others for k in range(1, (top + j_max) // zo + 1)}), dtype=int
+    )
+    mesh = _mesh_orders(nn, z, mesh_harmonics)
+    mesh = [m for m in mesh if m <= top and m not in set(other_mesh.tolist())]
+
+    def ambiguous(o: int) -> bool:
+        return bool(other_mesh.size) and bool(np.min(np.abs(other_mesh - o)) <= j_max)
+
+    own = set(_mesh_orders(nn, z, None))
+    side: set[int] = set()
+    for m in mesh:
+        for j in range(1, j_max + 1):
+            for o in (m - j, m + j):
+                if 1 <= o <= top and o not in own and not ambiguous(o):
+                    side.add(o)
+    return mesh, sorted(side)
+
+
+def sideband_energy_ratio(
+    tsa_signal: np.ndarray,
+    teeth: int,
+    other_teeth: Sequence[int] = (),
+    sidebands: int = 3,
+    mesh_harmonics: int | None = None,
+) -> float:
+    """SER of one wheel: Σ amplitudes of its unambiguous sidebands / Σ amplitudes of its mesh
+    harmonics (Hanna et al. 2011), orders from :func:`wheel_sideband_orders`."""
+    a = array1d("tsa_signal", tsa_signal, 4)
+    mesh, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands, mesh_harmonics)
+    spec = _amplitudes(a)
+    den = float(spec[mesh].sum()) if mesh else 0.0
+    if den == 0:
+        raise InputError(f"tsa_signal: no mesh-harmonic content at orders k·{teeth}; SER undefined")
+    return float(spec[side].sum()) / den
+
+
+def sideband_kurtosis(
+    tsa_signal: np.ndarray,
+    teeth: int,
+    other_teeth: Sequence[int] = (),
+    sidebands: int = 3,
+    mesh_harmonics: int | None = None,
+) -> float:
+    """Normalised kurtosis (FM4 form, Zakrajsek et al. 1993) of the signal rebuilt from the
+    wheel's unambiguous sideband orders only (:func:`wheel_sideband_orders`)."""
+    a = array1d("tsa_signal", tsa_signal, 4)
+    _, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands, mesh_harmonics)
+    if not side:
+        raise InputError(
+            f"teeth: wheel {teeth} has no unambiguous sideband orders below Nyquist "
+            f"(other wheels {list(other_teeth)}, sidebands={sidebands})"
+        )
+    return _norm_moment_zero_mean(keep_orders(a, side), 4)
+
+
+def wheel_nb4(
+    tsa_signal: np.ndarray,
+    teeth: int,
+    other_teeth: Sequence[int] = (),
+    sidebands: int = 3,
+    history: Sequence[np.ndarray] = (),
+) -> float:
+    """NB4 (Zakrajsek et al. 1993) restricted to one wheel: NA4 of the envelope of the signal
+    rebuilt from the wheel's mesh harmonics and unambiguous sidebands
+    (:func:`wheel_sideband_orders`); ``history``: earlier TSAs of the same shaft."""
+
+    def env(t: np.ndarray) -> np.ndarray:
+        a = array1d("tsa_signal", t, 4)
+        mesh, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands)
+        return np.abs(hilbert(keep_orders(a, [*mesh, *side])))
+
+    return na4(env(tsa_signal), [env(h) for h in history])
+
+
+def wheel_indicators(
+    tsa_signal: np.ndarray,
+    teeth: int,
+    other_teeth: Sequence[int] = (),
+    sidebands: int = 3,
+    history: Sequence[np.ndarray] = (),
+) -> dict[str, float]:
+    """Indicators localising one wheel among the wheels of its shaft from the shaft's TSA, all
+    on the wheel's own mesh harmonics and unambiguous sidebands: ``SER``,
+    ``sideband_kurtosis`` and ``NB4`` (:func:`wheel_nb4`; ``history``: earlier TSAs)."""
+    return {
+        "SER": sideband_energy_ratio(tsa_signal, teeth, other_teeth, sidebands),
+        "sideband_kurtosis": sideband_kurtosis(tsa_signal, teeth, other_teeth, sidebands),
+        "NB4": wheel_nb4(tsa_signal, teeth, other_teeth, sidebands, history),
+    }
 
 
 def sideband_level_factor(tsa_signal: np.ndarray, teeth: int) -> float:
@@ -159,9 +301,10 @@ def sideband_level_factor(tsa_signal: np.ndarray, teeth: int) -> float:
 
 
 def gear_indicators(
-    tsa_signal: np.ndarray, teeth: int, mesh_harmonics: int | None = None
+    tsa_signal: np.ndarray, teeth: int | Sequence[int], mesh_harmonics: int | None = None
 ) -> dict[str, float]:
-    """All single-record indicators of a one-revolution TSA of a gear with ``teeth`` teeth."""
+    """All single-record indicators of a one-revolution TSA of a shaft whose wheels have
+    ``teeth`` teeth (SLF: first wheel)."""
     d = difference_signal(tsa_signal, teeth, mesh_harmonics)
     r = residual_signal(tsa_signal, teeth, mesh_harmonics)
     return {
@@ -177,7 +320,7 @@ def gear_indicators(
         "NA4": na4(r),
         "NB4": nb4(tsa_signal, teeth),
         "energy_ratio": energy_ratio(tsa_signal, teeth, mesh_harmonics),
-        "SLF": sideband_level_factor(tsa_signal, teeth),
+        "SLF": sideband_level_factor(tsa_signal, tooth_counts(teeth)[0]),
     }
 
 

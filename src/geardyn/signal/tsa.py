@@ -6,6 +6,10 @@
 * Residual signal: TSA minus shaft orders 1…``shaft_harmonics`` and the mesh harmonics.
 * Difference signal: residual minus the first-order sidebands ``k·Z ± 1`` of every mesh
   harmonic (Zakrajsek, Townsend & Decker 1993, NASA TM-106032 definitions).
+* ``teeth`` may be one tooth count or several (every wheel on the averaged shaft): the mesh
+  harmonics and sidebands of **every** wheel are then removed, so that the difference signal of
+  a shaft carrying a 19- and a 71-tooth wheel keeps neither mesh (otherwise the other wheel's
+  mesh, a sine, pins FM4 near 1.5 and hides a fault).
 * Planetary TSA (McFadden 1991 / McFadden & Howard "window function" technique): per-planet
   windows, centred on each planet's passage at the sensor, are averaged in the planet's tooth
   frame, separating the vibration of one planet (or of the sun) from the others.
@@ -14,6 +18,8 @@ All signals are in angle (samples per revolution of the averaged gear/shaft); un
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -57,45 +63,70 @@ def _keep_orders(a: np.ndarray, orders: set[int], keep: bool) -> np.ndarray:
     return np.fft.irfft(out, a.size)
 
 
-def _mesh_orders(n: int, teeth: int, mesh_harmonics: int | None) -> list[int]:
+def keep_orders(a: np.ndarray, orders: Sequence[int]) -> np.ndarray:
+    """The part of a one-revolution signal at the integer ``orders`` only (FFT mask)."""
+    return _keep_orders(array1d("a", a, 4), {int(o) for o in orders}, keep=True)
+
+
+def tooth_counts(teeth: int | Sequence[int]) -> tuple[int, ...]:
+    """Tooth count(s) of the wheels on one averaged shaft as a tuple of ints ≥ 1 (``teeth`` may
+    be one int or a sequence; duplicates are kept once, order preserved)."""
+    if isinstance(teeth, (int, np.integer)):
+        return (positive_int("teeth", teeth, "tooth count"),)
+    try:
+        items = list(teeth)
+    except TypeError:
+        raise InputError(
+            f"teeth: must be a tooth count or a sequence of them, got {teeth!r}"
+        ) from None
+    if not items:
+        raise InputError("teeth: needs at least one tooth count, got an empty sequence")
+    return tuple(dict.fromkeys(positive_int("teeth", z, "tooth count") for z in items))
+
+
+def _mesh_orders(n: int, teeth: int | Sequence[int], mesh_harmonics: int | None) -> list[int]:
+    """Orders ``k·Z`` (k = 1…``mesh_harmonics`` or up to Nyquist) of every wheel, sorted."""
     nyq = n // 2
-    kmax = nyq // teeth if mesh_harmonics is None else mesh_harmonics
-    return [k * teeth for k in range(1, kmax + 1) if k * teeth <= nyq]
+    out: set[int] = set()
+    for z in tooth_counts(teeth):
+        kmax = nyq // z if mesh_harmonics is None else mesh_harmonics
+        out.update(k * z for k in range(1, kmax + 1) if k * z <= nyq)
+    return sorted(out)
 
 
 def regular_signal(
-    tsa_signal: np.ndarray, teeth: int, mesh_harmonics: int | None = None
+    tsa_signal: np.ndarray, teeth: int | Sequence[int], mesh_harmonics: int | None = None
 ) -> np.ndarray:
-    """Mesh-harmonic content of a one-revolution TSA (orders ``k·teeth``)."""
+    """Mesh-harmonic content of a one-revolution TSA (orders ``k·Z`` of every wheel in
+    ``teeth``; Zakrajsek, Townsend & Decker 1993)."""
     a = array1d("tsa_signal", tsa_signal, 4)
-    z = positive_int("teeth", teeth, "tooth count")
-    return _keep_orders(a, set(_mesh_orders(a.size, z, mesh_harmonics)), keep=True)
+    return _keep_orders(a, set(_mesh_orders(a.size, teeth, mesh_harmonics)), keep=True)
 
 
 def residual_signal(
     tsa_signal: np.ndarray,
-    teeth: int,
+    teeth: int | Sequence[int],
     mesh_harmonics: int | None = None,
     shaft_harmonics: int = 1,
 ) -> np.ndarray:
-    """TSA without the mean, shaft orders ``1..shaft_harmonics`` and the mesh harmonics."""
+    """TSA without the mean, shaft orders ``1..shaft_harmonics`` and the mesh harmonics of every
+    wheel in ``teeth`` (Zakrajsek, Townsend & Decker 1993)."""
     a = array1d("tsa_signal", tsa_signal, 4)
-    z = positive_int("teeth", teeth, "tooth count")
-    remove = {0, *range(1, shaft_harmonics + 1), *_mesh_orders(a.size, z, mesh_harmonics)}
+    remove = {0, *range(1, shaft_harmonics + 1), *_mesh_orders(a.size, teeth, mesh_harmonics)}
     return _keep_orders(a, remove, keep=False)
 
 
 def difference_signal(
     tsa_signal: np.ndarray,
-    teeth: int,
+    teeth: int | Sequence[int],
     mesh_harmonics: int | None = None,
     shaft_harmonics: int = 1,
     sidebands: int = 1,
 ) -> np.ndarray:
-    """Residual signal without the first ``sidebands`` sideband orders ``k·teeth ± j``."""
+    """Residual signal without the first ``sidebands`` sideband orders ``k·Z ± j`` of every mesh
+    harmonic of every wheel in ``teeth`` (Zakrajsek, Townsend & Decker 1993)."""
     a = array1d("tsa_signal", tsa_signal, 4)
-    z = positive_int("teeth", teeth, "tooth count")
-    mesh = _mesh_orders(a.size, z, mesh_harmonics)
+    mesh = _mesh_orders(a.size, teeth, mesh_harmonics)
     remove = {0, *range(1, shaft_harmonics + 1), *mesh}
     for m in mesh:
         for j in range(1, sidebands + 1):
