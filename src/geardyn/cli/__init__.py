@@ -19,6 +19,7 @@ app = typer.Typer(
 # Command modules register themselves on import (one line each).
 from geardyn.cli import analyze as _analyze  # noqa: E402,F401
 from geardyn.cli import demo as _demo  # noqa: E402,F401
+from geardyn.cli import diagnose as _diagnose  # noqa: E402,F401
 from geardyn.cli import kinematics as _kinematics  # noqa: E402,F401
 from geardyn.cli import modes as _modes  # noqa: E402,F401
 from geardyn.cli import simulate as _simulate  # noqa: E402,F401

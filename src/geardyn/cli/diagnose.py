@@ -1,0 +1,113 @@
+"""``geardyn diagnose CONFIG.toml --out DIR``: healthy baseline, record, thresholds and verdict.
+
+Without files, simulates the healthy variant of the config (every fault removed) for each
+baseline seed and the configured machine with the record seed; with ``--baseline healthy.nc
+... --record faulty.nc``, judges the record file against the healthy files. Writes
+``DIR/verdict.json`` and ``DIR/report.html`` and prints the verdict per component. Exit code 0
+whether or not an alarm is raised; 2 on error.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from geardyn.cli import app
+from geardyn.cli.common import console, friendly_errors
+from geardyn.errors import InputError
+
+_STYLE = {"alarm": "bold red", "healthy": "green", "unknown": "dim"}
+
+
+def parse_seeds(text: str | None) -> list[int] | None:
+    """``'0,1,2'`` → ``[0, 1, 2]`` (None stays None)."""
+    if text is None:
+        return None
+    try:
+        seeds = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise InputError(f"--seeds: expected comma-separated integers, e.g. 0,1,2; got "
+                         f"{text!r}") from None
+    if not seeds:
+        raise InputError("--seeds: give at least one seed, e.g. 0,1,2")
+    return seeds
+
+
+def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verdict
+    """Verdict table (component, kind, state, worst indicator, margin) and where the files are."""
+    t = Table(title=f"verdict: {verdict.machine} (channel {', '.join(verdict.channels)}, "
+              f"k = {verdict.rule.k:g})", title_justify="left")
+    for c in ("component", "kind", "state", "worst indicator", "margin [-]"):
+        t.add_column(c, justify="right" if c.startswith("margin") else "left")
+    for _, r in verdict.table().iterrows():
+        m = r["margin"]
+        t.add_row(escape(str(r["component"])), r["kind"],
+                  f"[{_STYLE[r['state']]}]{r['state']}[/]", escape(str(r["worst_indicator"])),
+                  f"{m:.3g}" if math.isfinite(m) else "–")
+    console.print(t)
+    s = verdict.summary()
+    console.print(f"alarm on: [bold red]{escape(', '.join(s['alarms']))}[/]" if s["alarms"]
+                  else "[green]no component in alarm[/]")
+    if "localised" in s:
+        exp = ", ".join(s["expected"]) or "none (healthy machine)"
+        ok = "[green]alarms match[/]" if s["localised"] else "[yellow]alarms do not match[/]"
+        console.print(f"configured fault(s) on: {escape(exp)}; {ok}")
+    console.print(f"wrote {out / 'verdict.json'} and report {out / 'report.html'}")
+
+
+@app.command("diagnose")
+@friendly_errors
+def diagnose_cmd(
+    config: Path = typer.Argument(..., help="TOML config (machine, faults, \\[\\[sensors]])"),
+    out: Path = typer.Option(..., "--out", "-o", help="output directory (verdict.json, "
+                             "report.html)"),
+    baseline: list[Path] = typer.Option(None, "--baseline", help="healthy result file (.nc); "
+                                        "repeat for several"),
+    record: Path | None = typer.Option(None, "--record", help="result file (.nc) to judge"),
+    channel: str | None = typer.Option(None, "--channel", help="sensor channel (default: "
+                                       "\\[diagnosis].channel or the first)"),
+    reference: str | None = typer.Option(None, "--reference", help="order reference link"),
+    k: float | None = typer.Option(None, "--k", help="threshold = mean + k·σ (default 3)"),
+    sigma_floor: float | None = typer.Option(None, "--sigma-floor",
+                                             help="σ ≥ this fraction of |mean| (default 0.05)"),
+    seeds: str | None = typer.Option(None, "--seeds", help="baseline seeds, e.g. 0,1,2"),
+    record_seed: int | None = typer.Option(None, "--record-seed", help="seed of the record"),
+    blocks: int | None = typer.Option(None, "--blocks", help="blocks of revolutions per record"),
+    skip: float | None = typer.Option(None, "--skip", help="start transient discarded \\[s]"),
+    t_end: float | None = typer.Option(None, "--t-end", help="simulated duration \\[s]"),
+) -> None:
+    """Healthy baseline, thresholds and a verdict per component; writes verdict.json and a
+    self-contained report.html."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from geardyn.config import load_config
+    from geardyn.diagnosis.pipeline import check_output_dir, diagnose, diagnose_files
+
+    if bool(baseline) != (record is not None):
+        raise InputError("--baseline and --record go together: give healthy result file(s) "
+                         "and the record to judge, or neither (simulate both)")
+    cfg = load_config(config)
+    check_output_dir(out)
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as prog:
+        task = prog.add_task("diagnosis", total=1.0)
+
+        def progress(message: str, fraction: float) -> None:
+            prog.update(task, description=message, completed=fraction)
+
+        common = {"channel": channel, "reference": reference, "k": k,
+                  "sigma_floor": sigma_floor, "n_blocks": blocks, "skip_s": skip,
+                  "progress": progress}
+        if record is not None:
+            if seeds is not None or record_seed is not None or t_end is not None:
+                raise InputError("--seeds/--record-seed/--t-end are for simulated runs; they "
+                                 "do not apply with --baseline/--record files")
+            verdict = diagnose_files(baseline, record, cfg, out, **common)
+        else:
+            verdict = diagnose(cfg, out, baseline_seeds=parse_seeds(seeds),
+                               record_seed=record_seed, t_end_s=t_end, **common)
+    render_verdict(verdict, out)

@@ -1,0 +1,269 @@
+"""From a config to a verdict: healthy baseline, record, thresholds, verdict.json, report.html.
+
+:func:`diagnose` simulates the healthy variant of a config (every fault removed) for each
+baseline seed and the configured machine (its faults included) with the record seed, measures
+them with the config's ``[[sensors]]``, extracts the indicators per component
+(:func:`geardyn.diagnosis.features.features_from_result`), sets thresholds from the pooled
+baseline (:mod:`geardyn.diagnosis.baseline`), judges the record
+(:mod:`geardyn.diagnosis.verdict`) and writes ``verdict.json`` and ``report.html``.
+:func:`diagnose_files` does the same from result files (measured or simulated NetCDF in the
+result layout of docs/results.md).
+
+Options come from the config's ``[diagnosis]`` section (:class:`~geardyn.config.diagnosis.
+DiagnosisSpec`); keyword arguments that are not None override them.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import xarray as xr
+from pydantic import ValidationError
+
+from geardyn.config.diagnosis import DiagnosisSpec
+from geardyn.diagnosis.baseline import ThresholdRule, thresholds
+from geardyn.diagnosis.faults import ConfiguredFault, fault_list, healthy_variant
+from geardyn.diagnosis.report import write_report
+from geardyn.diagnosis.verdict import Verdict, judge
+from geardyn.errors import ConfigError, InputError
+
+if TYPE_CHECKING:
+    from geardyn.config.loader import GeardynConfig
+    from geardyn.kinematics import CharacteristicFrequencies
+
+#: ``progress(message, fraction)``: what is being done and the overall fraction done (0–1).
+Progress = Callable[[str, float], None]
+
+
+def options(cfg: GeardynConfig, **overrides: Any) -> DiagnosisSpec:
+    """``[diagnosis]`` of ``cfg`` (defaults if absent) with the non-None ``overrides``
+    (DiagnosisSpec field names) applied and validated; a bad value raises ConfigError naming
+    the field, e.g. ``diagnosis.threshold_k``."""
+    base = getattr(cfg, "diagnosis", None) or DiagnosisSpec()
+    data = base.model_dump()
+    data.update({k: (list(v) if isinstance(v, tuple) else v)
+                 for k, v in overrides.items() if v is not None})
+    try:
+        return DiagnosisSpec.model_validate(data)
+    except ValidationError as exc:
+        from geardyn.config.loader import format_validation_error
+
+        raise ConfigError(
+            [f"diagnosis.{m}" for m in format_validation_error(exc, data)]
+        ) from None
+
+
+def check_output_dir(out_dir: str | Path) -> Path:
+    """Create ``out_dir`` if needed and check that a file can be written there (before any
+    simulation runs); InputError otherwise."""
+    out = Path(out_dir)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=out, prefix=".geardyn-write-test"):
+            pass
+    except OSError as exc:
+        raise InputError(f"out: cannot write to '{out}': {exc.strerror or exc}") from None
+    return out
+
+
+def _say(progress: Progress | None, message: str, fraction: float) -> None:
+    if progress is not None:
+        progress(message, min(1.0, max(0.0, fraction)))
+
+
+def _check_status(ds: xr.Dataset, what: str) -> None:
+    status = str(ds.attrs.get("status", "ok"))
+    if status != "ok":
+        raise InputError(
+            f"{what}: simulation status '{status}' ({ds.attrs.get('diagnosis', '')}); a "
+            "diagnosis needs a run at a steady operating point (check the speed profile, "
+            "t_end_s and skip_s)"
+        )
+
+
+def _channel(ds: xr.Dataset, wanted: str | None, what: str) -> str:
+    from geardyn.results import channel, channels
+
+    if wanted is not None:
+        return channel(ds, wanted).name
+    names = channels(ds)
+    if not names:
+        raise InputError(
+            f"{what}: the result has no sensor channel; add [[sensors]] to the config "
+            "(e.g. an accelerometer on the ring or a bearing)"
+        )
+    return names[0]
+
+
+def operating_frequencies(
+    cfg: GeardynConfig, ds: xr.Dataset, reference: str | None = None, skip_s: float = 0.0
+) -> CharacteristicFrequencies:
+    """Characteristic frequencies at the record's mean input speeds (after ``skip_s``), orders
+    of ``reference`` (default: the first input); the config's input speeds where the result
+    lacks a shaft."""
+    from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
+
+    inputs = dict(cfg.input_speeds_rpm)
+    shafts = [str(s) for s in ds["shaft"].values] if "shaft" in ds.coords else []
+    if "speed_rpm" in ds and "time" in ds.coords:
+        steady = ds["speed_rpm"].where(ds["time"] >= skip_s, drop=True)
+        for link in inputs:
+            if link in shafts and steady.sizes.get("time", 0):
+                rpm = float(steady.sel(shaft=link).mean())
+                if math.isfinite(rpm) and rpm != 0.0:
+                    inputs[link] = rpm
+    kin = analyze_kinematics(cfg)
+    ref = reference if reference in kin.graph.links else None
+    return characteristic_frequencies(kin, inputs, order_reference=ref)
+
+
+def _features(ds: xr.Dataset, cfg: GeardynConfig, channel: str, opts: DiagnosisSpec) -> Any:
+    from geardyn.diagnosis.features import features_from_result
+
+    return features_from_result(ds, cfg, channel, reference=opts.reference,
+                                skip_s=opts.skip_s, n_blocks=opts.blocks)
+
+
+def _finish(
+    cfg: GeardynConfig,
+    out: Path,
+    opts: DiagnosisSpec,
+    baseline: list[Any],
+    record: Any,
+    record_ds: xr.Dataset,
+    channel: str,
+    info: tuple[dict[str, Any], dict[str, Any]],
+    expected: list[ConfiguredFault] | None,
+) -> Verdict:
+    """Thresholds, verdict, verdict.json and report.html from the features."""
+    rule = ThresholdRule(k=opts.threshold_k, sigma_floor=opts.sigma_floor)
+    th = thresholds([f.table for f in baseline], rule)
+    verdict = judge(record.table, th, rule, machine=cfg.name, baseline=info[0],
+                    record_info=info[1], expected_faults=expected)
+    verdict.write(out)
+    shaft = str(record_ds[f"sensors.{channel}"].attrs.get("shaft", "")) or None
+    freqs = operating_frequencies(cfg, record_ds, opts.reference or shaft, opts.skip_s)
+    write_report(out, verdict, record, healthy=baseline[0], freqs=freqs, record_ds=record_ds,
+                 channel=channel)
+    return verdict
+
+
+def diagnose(
+    cfg: GeardynConfig,
+    out_dir: str | Path,
+    *,
+    baseline_seeds: Sequence[int] | None = None,
+    record_seed: int | None = None,
+    channel: str | None = None,
+    reference: str | None = None,
+    k: float | None = None,
+    sigma_floor: float | None = None,
+    n_blocks: int | None = None,
+    skip_s: float | None = None,
+    t_end_s: float | None = None,
+    progress: Progress | None = None,
+) -> Verdict:
+    """Simulate the healthy baseline and the faulty record of ``cfg``, judge the record and
+    write ``out_dir/verdict.json`` and ``out_dir/report.html``.
+
+    Defaults from ``[diagnosis]`` (baseline seeds 0, 1, 2; record seed 100; k = 3; σ floor
+    5 % of |mean|; 4 blocks; the first sensor channel). ``t_end_s`` [s] overrides the run
+    length, ``skip_s`` [s] the start transient discarded. Raises InputError when the output
+    directory is not writable (before any simulation), a run does not end with status ``ok``
+    or the result has no sensor channel.
+    """
+    from geardyn.run import run_simulation
+
+    opts = options(cfg, baseline_seeds=baseline_seeds, record_seed=record_seed, channel=channel,
+                   reference=reference, threshold_k=k, sigma_floor=sigma_floor, blocks=n_blocks,
+                   skip_s=skip_s, t_end_s=t_end_s)
+    out = check_output_dir(out_dir)
+    if opts.record_seed in opts.baseline_seeds:
+        raise ConfigError(f"diagnosis.record_seed: {opts.record_seed} is also a baseline seed "
+                          f"{opts.baseline_seeds}; the record must be an independent run")
+    healthy = healthy_variant(cfg)
+    n = len(opts.baseline_seeds) + 1
+    feats = []
+    for i, seed in enumerate(opts.baseline_seeds):
+        what = f"healthy baseline, seed {seed}"
+
+        def tick(f: float, i: int = i, what: str = what) -> None:
+            _say(progress, f"simulating {what}", (i + 0.9 * f) / n)
+
+        ds = run_simulation(healthy, seed=seed, t_end_s=opts.t_end_s, progress=tick)
+        _check_status(ds, what)
+        ch = _channel(ds, opts.channel, what)
+        _say(progress, f"indicators of {what}", (i + 0.9) / n)
+        feats.append(_features(ds, cfg, ch, opts))
+        del ds
+    what = f"record (configured faults), seed {opts.record_seed}"
+    rec_ds = run_simulation(cfg, seed=opts.record_seed, t_end_s=opts.t_end_s,
+                            progress=lambda f: _say(progress, f"simulating {what}",
+                                                    (n - 1 + 0.9 * f) / n))
+    _check_status(rec_ds, what)
+    ch = _channel(rec_ds, opts.channel, what)
+    _say(progress, f"indicators of the {what}", (n - 0.1) / n)
+    record = _features(rec_ds, cfg, ch, opts)
+    _say(progress, "verdict and report", 0.99)
+    info = ({"seeds": list(opts.baseline_seeds), "blocks": opts.blocks,
+             "t_end_s": opts.t_end_s, "skip_s": opts.skip_s},
+            {"seed": opts.record_seed, "t_end_s": opts.t_end_s})
+    verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, fault_list(cfg))
+    _say(progress, "done", 1.0)
+    return verdict
+
+
+def _open(path: str | Path, what: str) -> xr.Dataset:
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{what}: file '{p}' does not exist")
+    try:
+        return xr.load_dataset(p)
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{what}: cannot read '{p}' as NetCDF: {exc}") from None
+
+
+def diagnose_files(
+    baseline_paths: Sequence[str | Path],
+    record_path: str | Path,
+    cfg: GeardynConfig,
+    out_dir: str | Path,
+    *,
+    channel: str | None = None,
+    reference: str | None = None,
+    k: float | None = None,
+    sigma_floor: float | None = None,
+    n_blocks: int | None = None,
+    skip_s: float | None = None,
+    progress: Progress | None = None,
+) -> Verdict:
+    """Judge the result file ``record_path`` against the healthy result files
+    ``baseline_paths`` (NetCDF in the result layout, e.g. from ``geardyn simulate`` or a
+    measurement converted to it); ``cfg`` describes the machine (kinematics). Writes
+    ``out_dir/verdict.json`` and ``out_dir/report.html``; the configured faults of ``cfg``
+    are not assumed to be those of the record (expected faults unknown)."""
+    if not baseline_paths:
+        raise InputError("baseline: give at least one healthy result file (--baseline)")
+    opts = options(cfg, channel=channel, reference=reference, threshold_k=k,
+                   sigma_floor=sigma_floor, blocks=n_blocks, skip_s=skip_s)
+    out = check_output_dir(out_dir)
+    n = len(baseline_paths) + 1
+    feats = []
+    for i, path in enumerate(baseline_paths):
+        what = f"baseline file '{path}'"
+        _say(progress, f"indicators of {what}", i / n)
+        ds = _open(path, "baseline")
+        feats.append(_features(ds, cfg, _channel(ds, opts.channel, what), opts))
+    _say(progress, f"indicators of record '{record_path}'", (n - 1) / n)
+    rec_ds = _open(record_path, "record")
+    ch = _channel(rec_ds, opts.channel, f"record '{record_path}'")
+    record = _features(rec_ds, cfg, ch, opts)
+    info = ({"files": [str(p) for p in baseline_paths], "blocks": opts.blocks,
+             "skip_s": opts.skip_s}, {"file": str(record_path)})
+    verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, None)
+    _say(progress, "done", 1.0)
+    return verdict
