@@ -34,16 +34,13 @@ def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: AN
         raise InputError(f"t_end_s: must be a finite time > 0 s, got {t_end_s!r}")
     pdyn = getattr(cfg, "planetary_dynamics", None)
     if pdyn is not None and pdyn.simulation is not None:
-        ds, ctx = _planetary(cfg, int(seed), t_end_s, progress)
+        ds = _planetary(cfg, int(seed), t_end_s, progress)
     elif getattr(cfg, "transmission", None) is not None:
-        ds, ctx = _transmission(cfg, revolutions, t_end_s)
+        ds = _transmission(cfg, revolutions, t_end_s)
     else:
         raise ConfigError("nothing to simulate: the config has neither "
                           "[planetary_dynamics.simulation] nor [transmission]")
-    ds.attrs["seed"] = int(seed)
-    if getattr(cfg, "sensors", None):
-        apply_sensors(ds, list(cfg.sensors), int(seed), ctx)
-    return ds
+    return add_sensors(cfg, ds, int(seed))
 
 
 def _reference(cfg, names: list[str]) -> str:  # noqa: ANN001
@@ -63,8 +60,7 @@ def _seeded(cfg, seed: int):  # noqa: ANN001, ANN202
     return cfg.model_copy(update={"planetary_dynamics": pd.model_copy(update={"stages": stages})})
 
 
-def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> tuple[xr.Dataset,  # noqa: ANN001
-                                                                          SensorContext]:
+def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> xr.Dataset:  # noqa: ANN001
     from geardyn.models.planetary.build import prepare
     from geardyn.models.planetary.dynamics import to_dataset
     from geardyn.solve.integrate import newmark
@@ -82,22 +78,8 @@ def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> tuple[xr.Data
                   alpha=sim.hht_alpha, progress=progress)
     ds = to_dataset(model, res, p.mesh_index, {"dt_s": sim.dt_s, "hht_alpha": sim.hht_alpha},
                     shaft_names=names)
-    shaft_list = [str(s) for s in ds["shaft"].values]
-    ref = _reference(cfg, shaft_list)
-    ds.attrs["reference_shaft"] = ref
-    ctx = SensorContext(ref)
-    for st, info in model.stages.items():
-        planets = [info.bodies[f"planet{i + 1}"] for i in range(len(info.psi))]
-        ctx.rings[st] = RingSet(names[info.bodies["carrier"]], names[info.bodies["ring"]],
-                                np.asarray(info.psi, float),
-                                [f"{pl}.mesh_ring" for pl in planets])
-    if "bearing" in ds.coords:
-        for b in ds["bearing"].values:
-            body, _, axis = str(b).rpartition(".bearing.")
-            d = {"x": "x", "y": "y", "zeta": "x", "eta": "y"}.get(axis)
-            if d:
-                ctx.bearings[(body, d)] = ("bearing_force", {"bearing": str(b)})
-    return ds, ctx
+    ds.attrs["reference_shaft"] = _reference(cfg, [str(s) for s in ds["shaft"].values])
+    return ds
 
 
 def body_links(cfg, model) -> dict[str, str]:  # noqa: ANN001
@@ -120,7 +102,7 @@ def body_links(cfg, model) -> dict[str, str]:  # noqa: ANN001
 
 
 def _transmission(cfg, revolutions: float | None, t_end_s: float | None  # noqa: ANN001
-                  ) -> tuple[xr.Dataset, SensorContext]:
+                  ) -> xr.Dataset:
     from geardyn.models.transmission import simulate
     from geardyn.models.transmission.simulate import SimulationDivergedError
 
@@ -131,11 +113,44 @@ def _transmission(cfg, revolutions: float | None, t_end_s: float | None  # noqa:
         ds = simulate(cfg, revolutions=revolutions)
     except SimulationDivergedError as exc:
         ds = exc.result
-    ctx = SensorContext(str(ds.attrs.get("reference_shaft", ds["shaft"].values[0])))
-    for b in ds["bearing"].values:
-        for d in ("x", "y"):
-            ctx.bearings[(str(b), d)] = ("bearing_force", {"bearing": str(b), "axis": d})
     links = {s.name: (s.link or s.name) for s in cfg.transmission.shafts}
-    ds = ds.assign_coords(link=("shaft", [links.get(str(s), str(s))
-                                          for s in ds["shaft"].values]))
-    return ds, ctx
+    return ds.assign_coords(link=("shaft", [links.get(str(s), str(s))
+                                            for s in ds["shaft"].values]))
+
+
+def sensor_context(cfg, ds: xr.Dataset) -> SensorContext:  # noqa: ANN001
+    """What the sensors need to know of the model behind result ``ds``: ring sets of the
+    planetary stages (carrier and ring shafts, planet angles, ring meshes) and the force column
+    of every bearing location."""
+    ctx = SensorContext(str(ds.attrs.get("reference_shaft", ds["shaft"].values[0])))
+    if ds.attrs.get("model") == "planetary":
+        from geardyn.models.planetary.build import model_from_config
+
+        model = model_from_config(cfg)
+        names = dict(zip([str(b) for b in ds["body"].values],
+                         [str(s) for s in ds["shaft"].values], strict=True))
+        for st, info in model.stages.items():
+            planets = [info.bodies[f"planet{i + 1}"] for i in range(len(info.psi))]
+            ctx.rings[st] = RingSet(names[info.bodies["carrier"]], names[info.bodies["ring"]],
+                                    np.asarray(info.psi, float),
+                                    [f"{pl}.mesh_ring" for pl in planets])
+    if "bearing" in ds.coords:
+        for b in ds["bearing"].values:
+            b = str(b)
+            if "axis" in ds["bearing_force"].dims:  # FE: force (x, y) on the housing
+                for d in ("x", "y"):
+                    ctx.bearings[(b, d)] = ("bearing_force", {"bearing": b, "axis": d})
+                continue
+            body, _, axis = b.rpartition(".bearing.")  # lumped: one spring per direction
+            d = {"x": "x", "y": "y", "zeta": "x", "eta": "y"}.get(axis)
+            if d:
+                ctx.bearings[(body, d)] = ("bearing_force", {"bearing": b})
+    return ctx
+
+
+def add_sensors(cfg, ds: xr.Dataset, seed: int = 0) -> xr.Dataset:  # noqa: ANN001
+    """Measure result ``ds`` of ``cfg``'s model with the config's ``[[sensors]]``."""
+    ds.attrs["seed"] = int(seed)
+    if getattr(cfg, "sensors", None):
+        apply_sensors(ds, list(cfg.sensors), int(seed), sensor_context(cfg, ds))
+    return ds

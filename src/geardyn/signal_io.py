@@ -129,9 +129,17 @@ def read_signal(
                 dv = [v for v in ds.data_vars if v != "pulse_times"]
                 if not dv:
                     raise InputError(f"{src}: no data variable")
+                one_d = [str(v) for v in dv if ds[v].ndim == 1]
+                if channel is None and len(one_d) > 1:
+                    raise InputError(f"channel: {src} holds {len(one_d)} 1-D channels; choose "
+                                     f"one of: {', '.join(one_d)}")
                 i = _pick([str(v) for v in dv], channel, src)
                 da = ds[dv[i]]
-                x = np.asarray(da.values, dtype=float).ravel()
+                if da.ndim != 1:
+                    raise InputError(
+                        f"channel: variable '{dv[i]}' of {src} has dims {tuple(da.dims)}, not one "
+                        f"channel; choose a 1-D channel: {', '.join(one_d) or '(none)'}")
+                x = np.asarray(da.values, dtype=float)
                 fk = next((k for k in _FS_KEYS if k in da.attrs or k in ds.attrs), None)
                 if fk:
                     rate_hz = float(da.attrs.get(fk, ds.attrs.get(fk)))

@@ -87,18 +87,41 @@ def analyze(
         plot_tsa,
         plot_waterfall,
     )
-    from geardyn.signal_io import read_pulse_times, read_signal
+    from geardyn.signal_io import SignalRecord, read_pulse_times, read_signal
 
     cfg = load_config(config)
     kin = analyze_kinematics(cfg)
     speeds = parse_assignments(speed, "--speed")
+    result = _open_result(signal)
+    sim_channel = None
+    if result is not None:
+        sim_channel, ref_angle = _result_channel(result, channel, reference, fs, speeds, tacho,
+                                                 ias_ppr, signal)
+        reference = sim_channel.shaft
     if len(speeds) > 1:
         raise InputError("--speed: give the speed of one reference link only")
     for link, v in speeds.items():
         if v <= 0:
             raise InputError(f"--speed: {link} speed must be > 0 rpm, got {v:g}")
 
-    if ias_ppr is not None:  # ---- IAS of the reference shaft from encoder edge times
+    if sim_channel is not None and sim_channel.sampling == "angle":  # simulated encoder IAS
+        ref = sim_channel.shaft
+        x_ang = raw = sim_channel.values
+        spr = int(sim_channel.pulses_per_rev or 1)
+        rpm = 60.0 * float(np.mean(x_ang)) / (2 * np.pi)
+        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
+        max_valid = spr / 2.0
+        revolutions = x_ang.size / spr
+        start = 0
+        spectrogram = angular_spectrogram(
+            x_ang, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 8)),
+            speed=60.0 * x_ang / (2 * np.pi),
+        )
+        order_map = None
+        label = (f"channel '{sim_channel.name}' of {signal.name} "
+                 f"({sim_channel.attrs.get('long_name', 'IAS')})")
+        f_ref_max = float(np.max(x_ang)) / (2 * np.pi)
+    elif ias_ppr is not None:  # ---- IAS of the reference shaft from encoder edge times
         if ias_ppr < 1:
             raise InputError(f"--ias-ppr: pulses per revolution must be >= 1, got {ias_ppr}")
         edges = read_pulse_times(signal)
@@ -121,9 +144,17 @@ def analyze(
         label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
         f_ref_max = float(np.max(meas.ias)) / (2 * np.pi)
     else:  # ---- time signal resampled to the reference angle
-        rec = read_signal(signal, fs, channel)
-        pulses = read_pulse_times(tacho) if tacho is not None else None
-        if pulses is None and not speeds and rec.pulse_times is not None:
+        if sim_channel is not None:
+            rec = SignalRecord(sim_channel.values, float(sim_channel.sample_rate_hz),
+                               sim_channel.name, sim_channel.units)
+            pulses = None
+            ref = sim_channel.shaft
+            speeds = {ref: 60.0 * float(np.mean(np.gradient(ref_angle, sim_channel.time)))
+                      / (2 * np.pi)}
+        else:
+            rec = read_signal(signal, fs, channel)
+            pulses = read_pulse_times(tacho) if tacho is not None else None
+        if sim_channel is None and pulses is None and not speeds and rec.pulse_times is not None:
             pulses = rec.pulse_times
         if pulses is None and not speeds:
             raise InputError("--speed or --tacho: the reference shaft speed is needed")
@@ -136,7 +167,10 @@ def analyze(
             rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
         freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
         max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
-        if pulses is None:
+        if sim_channel is not None:
+            angle = ref_angle
+            f_ref_max = float(np.max(np.gradient(ref_angle, sim_channel.time))) / (2 * np.pi)
+        elif pulses is None:
             angle = 2 * np.pi * rpm / 60.0 * np.arange(rec.x.size) / rec.fs
             f_ref_max = rpm / 60.0
         else:
@@ -150,7 +184,7 @@ def analyze(
                                     pulses_per_rev=pulses_per_rev, samples_per_rev=spr)
         x_ang, raw, max_valid, revolutions = sig.x, rec.x, sig.max_valid_order, sig.revolutions
         order_map = None
-        if pulses is not None and revolutions >= 16:
+        if (pulses is not None or sim_channel is not None) and revolutions >= 16:
             rpm_k = 60.0 / (spr * np.gradient(sig.time))
             if rpm_k.max() > 1.05 * rpm_k.min():  # run-up / run-down: order–speed map
                 order_map = angular_spectrogram(
@@ -161,6 +195,8 @@ def analyze(
         nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
         spectrogram = stft(rec.x, rec.fs, nperseg=nper)
         label = f"{signal.name} ({rec.x.size} samples at {rec.fs:g} Hz)"
+        if sim_channel is not None:
+            label = f"channel '{sim_channel.name}' of {label}"
 
     max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
     if max_mesh > max_valid:
@@ -213,3 +249,61 @@ def analyze(
     console.print("largest orders: " + ", ".join(f"{o:.4g} ({a:.3g})" for o, a in top.items()))
     console.print(f"wrote {', '.join(sorted(figs))}, indicators.csv, markers.csv, "
                   f"order_spectrum.nc to {out}/")
+
+
+def _open_result(path: Path):  # noqa: ANN202 - xarray.Dataset | None
+    """The file as a geardyn simulation result (docs/results.md), or None for other files."""
+    if path.suffix.lower() not in (".nc", ".netcdf", ".h5") or not path.is_file():
+        return None
+    import xarray as xr
+
+    from geardyn.results import is_result
+
+    try:
+        ds = xr.open_dataset(path)
+    except Exception:  # noqa: BLE001 - not NetCDF4/3: read_signal reports it
+        return None
+    if not is_result(ds):
+        ds.close()
+        return None
+    return ds.load()
+
+
+def _result_channel(ds, channel: str | None, reference: str | None, fs: float | None,  # noqa: ANN001
+                    speeds: dict, tacho: Path | None, ias_ppr: int | None, path: Path):
+    """The channel to analyse in a simulation result and the angle [rad] of its reference
+    shaft at each of its samples (sign handled: the shaft turns forward)."""
+    from geardyn.results import channel as get_channel
+    from geardyn.results import channels, shaft_angle
+
+    names = channels(ds)
+    if not names:
+        raise InputError(f"{path}: the simulation result has no sensor channel; add "
+                         "[[sensors]] to the config and simulate again")
+    if channel is None:
+        if len(names) > 1:
+            raise InputError(f"--channel: {path} holds {len(names)} channels; choose one of: "
+                             f"{', '.join(names)}")
+        channel = names[0]
+    ch = get_channel(ds, channel)
+    if ch.kind == "tacho":
+        raise InputError(f"--channel: '{ch.name}' is a tacho (pulse times), a speed reference "
+                         f"rather than a signal; choose one of: "
+                         f"{', '.join(n for n in names if n != ch.name)}")
+    if speeds or tacho is not None or ias_ppr is not None:
+        raise InputError("--speed/--tacho/--ias-ppr: a simulation result carries its shaft "
+                         "angles and sensor settings; drop these options")
+    if fs is not None and ch.sample_rate_hz is not None and abs(fs - ch.sample_rate_hz) > \
+            1e-9 * ch.sample_rate_hz:
+        raise InputError(f"--fs: {fs:g} Hz contradicts the channel's {ch.sample_rate_hz:g} Hz")
+    if reference is not None and reference != ch.shaft:
+        ch.shaft = reference
+    t, th = shaft_angle(ds, ch.shaft)
+    if np.mean(np.diff(th)) < 0:
+        th = -th
+    ref_angle = np.interp(ch.time, t, th)
+    if ch.sampling == "time" and not np.all(np.diff(ref_angle) > 0):
+        raise InputError(f"channel '{ch.name}': shaft '{ch.shaft}' stops or turns backwards "
+                         "during the record; crop the run (status: "
+                         f"{ds.attrs.get('status', '?')})")
+    return ch, ref_angle

@@ -16,7 +16,7 @@ from geardyn.errors import ConfigError
 @app.command("transmission")
 @friendly_errors
 def transmission_cmd(
-    config: Path = typer.Argument(..., help="TOML config with a [transmission] section"),
+    config: Path = typer.Argument(..., help="TOML config with a \\[transmission] section"),
     revolutions: float | None = typer.Option(
         None, "--revolutions", help="revolutions of the speed-law reference shaft (override)"
     ),
@@ -28,10 +28,13 @@ def transmission_cmd(
     campbell_rpm: float | None = typer.Option(
         None, "--campbell", help="Campbell table up to this reference-shaft speed (rpm)"
     ),
+    seed: int = typer.Option(0, "--seed", help="seed of the sensors' random draws"),
 ) -> None:
     """Static preload, linearised modes and a speed-law run with IAS outputs."""
     from geardyn.models.transmission import build_model, prepare, simulate
     from geardyn.models.transmission.simulate import SimulationDivergedError
+    from geardyn.results import to_netcdf
+    from geardyn.run import add_sensors
 
     cfg = load_config(config)
     if cfg.transmission is None:
@@ -72,9 +75,10 @@ def transmission_cmd(
         ds = simulate(cfg, revolutions=revolutions, prepared=prep)
     except SimulationDivergedError as exc:
         if netcdf is not None:
-            exc.result.to_netcdf(netcdf, engine="h5netcdf")
+            to_netcdf(exc.result, netcdf)
             console.print(f"partial result written to {netcdf}")
         raise
+    add_sensors(cfg, ds, seed)
     a = ds.attrs
     ein, eout = a["energy_input_J"], a["energy_output_J"]
     console.print(
@@ -82,11 +86,9 @@ def transmission_cmd(
         f"({a['wall_integrate_s']:.1f} s); efficiency {eout / ein:.3%}"
     )
     if netcdf is not None:
-        out = ds.copy()
-        out.attrs = {k: (v if not hasattr(v, "tolist") else list(v)) for k, v in a.items()}
-        out.attrs["natural_frequencies_hz"] = [float(x) for x in a["natural_frequencies_hz"]]
-        out.to_netcdf(netcdf, engine="h5netcdf")
-        console.print(f"time histories written to {netcdf}")
+        ds.attrs["config"] = str(config)
+        to_netcdf(ds, netcdf)
+        console.print(f"time histories written to {netcdf} (layout: docs/results.md)")
     if plots is not None:
         from geardyn.models.transmission.report import write_figures
 
