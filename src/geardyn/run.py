@@ -38,8 +38,8 @@ def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: AN
     elif getattr(cfg, "transmission", None) is not None:
         ds = _transmission(cfg, revolutions, t_end_s)
     else:
-        raise ConfigError("nothing to simulate: the config has neither "
-                          "[planetary_dynamics.simulation] nor [transmission]")
+        raise ConfigError("nothing to simulate: the config has neither a [planetary_dynamics] "
+                          "section with [planetary_dynamics.simulation] nor [transmission]")
     return add_sensors(cfg, ds, int(seed))
 
 
