@@ -11,6 +11,7 @@ Public entry points:
 from geardyn.config import GeardynConfig, Mechanism, load_config
 from geardyn.errors import ConfigError, GeardynError, InputError, KinematicsError
 from geardyn.kinematics import KinematicAnalysis, analyze_kinematics
+from geardyn.plotting import GeardynAccessor as GeardynAccessor  # registers ds.geardyn
 
 __version__ = "0.1.0"
 

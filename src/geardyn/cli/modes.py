@@ -19,14 +19,15 @@ def modes_cmd(
     reduction: str | None = typer.Option(
         None, "--reduction", help="override: none | torsional | transverse"),
     max_hz: float | None = typer.Option(None, "--max-hz", help="list modes up to this (Hz)"),
-    plot: Path | None = typer.Option(None, "--plot", help="PNG: kinetic/strain energy per mode"),
+    plot: Path | None = typer.Option(None, "--plot", help="PNG: kinetic/strain energy per "
+                                     "mode (up to --max-hz)"),
     netcdf: Path | None = typer.Option(None, "--netcdf", help="write frequencies, shapes, "
                                        "energy fractions (xarray)"),
 ) -> None:
     """Natural frequencies, multiplicities, mode types, dominant motion and strain energy."""
     from geardyn.config import load_config
     from geardyn.models.planetary.build import model_from_config
-    from geardyn.solve.modal import modes, strain_energy_table
+    from geardyn.solve.modal import modes
 
     cfg = load_config(config)
     model = model_from_config(cfg, reduction)
@@ -45,25 +46,7 @@ def modes_cmd(
         res.to_dataset().to_netcdf(netcdf, engine="h5netcdf")
         console.print(f"wrote {netcdf}")
     if plot is not None:
-        import matplotlib
+        from geardyn.plotting import save_figure
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        labels, strain = strain_energy_table(model, res)
-        ek = res.kinetic / res.kinetic.sum(1, keepdims=True).clip(1e-300)
-        n = len(res.freq_hz)
-        fig, ax = plt.subplots(1, 2, figsize=(14, 0.25 * n + 2))
-        ax[0].imshow(ek * 100, aspect="auto", cmap="viridis")
-        ax[0].set_xticks(range(len(res.dof_names)), res.dof_names, rotation=90, fontsize=6)
-        ax[0].set_title("modal kinetic energy per DOF (%) — seed 003 Table 3.4 layout")
-        im = ax[1].imshow(strain * 100, aspect="auto", cmap="viridis")
-        ax[1].set_xticks(range(len(labels)), labels, rotation=90, fontsize=5)
-        ax[1].set_title("modal strain energy per spring (%) — Table 3.5 layout")
-        for a in ax:
-            a.set_yticks(range(n), [f"{f:.0f} Hz" for f in res.freq_hz], fontsize=6)
-        fig.colorbar(im, ax=ax[1])
-        fig.tight_layout()
-        fig.savefig(plot, dpi=110)
-        plt.close(fig)
+        save_figure(res.plot(model=model, max_hz=max_hz), plot)
         console.print(f"wrote {plot}")

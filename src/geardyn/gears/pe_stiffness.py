@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,6 +38,10 @@ from geardyn.gears.contact import hertz_compliance
 from geardyn.gears.faults import Crack, Spall
 from geardyn.gears.fillet_foundation import fillet_foundation_compliance
 from geardyn.gears.geometry import MeshGeometry, inv
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 _GX, _GW = np.polynomial.legendre.leggauss(40)
 
@@ -236,6 +241,15 @@ class StiffnessTable:
         from geardyn.gears.results import table_to_dataset
 
         return table_to_dataset(self)
+
+    def plot(self, ax: Axes | None = None, **kw: Any) -> Figure:
+        """Total stiffness [N/m] against mesh position [mesh cycles] on ``ax`` (a new figure
+        if None); returns the figure, never saves. ``kw``: ``pairs=True`` adds each tooth
+        pair, ``label``, ``xmax`` and line options (:func:`.plot.plot_stiffness_table`).
+        """
+        from geardyn.gears.plot import plot_stiffness_table
+
+        return plot_stiffness_table(self, ax, **kw)
 
 
 def _grid(g: MeshGeometry, n: int = 601) -> np.ndarray:

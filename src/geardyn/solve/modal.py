@@ -12,13 +12,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg as sla
 import xarray as xr
 
+from geardyn.errors import InputError
 from geardyn.models.planetary.model import PlanetaryModel
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 
 @dataclass
@@ -73,6 +80,44 @@ class ModalResult:
                 }
             )
         return rows
+
+    def plot(self, ax: Axes | Sequence[Axes] | None = None, kind: str = "energy",
+             max_hz: float | None = None, model: PlanetaryModel | None = None) -> Figure:
+        """Figure of the modes (returned, never saved); modes up to ``max_hz`` [Hz].
+
+        ``kind``: ``"energy"`` (default; two axes: ``"kinetic"`` energy per DOF, seed 003
+        Table 3.4 layout, and ``"strain"`` energy per spring, in % of each mode's energy),
+        ``"kinetic"``, ``"strain"`` (one axes each) or ``"frequencies"`` (natural frequency
+        against mode number, one legend entry per mode type). With ``model`` the strain
+        columns follow seed 003 Table 3.5 (:func:`strain_energy_table`). ``ax``: axes to draw
+        on (two for ``"energy"``), else a new figure.
+        """
+        from geardyn.plotting import plot_mode_energies, plot_mode_frequencies
+
+        kinds = ("energy", "kinetic", "strain", "frequencies")
+        if kind not in kinds:
+            raise InputError(f"kind: must be one of {', '.join(kinds)}, got {kind!r}")
+        keep = np.ones(len(self.freq_hz), bool) if max_hz is None else self.freq_hz <= max_hz
+        if not keep.any():
+            raise InputError(f"max_hz: no mode at or below {max_hz:g} Hz (lowest "
+                             f"{self.freq_hz[0]:.4g} Hz)")
+        if kind == "frequencies":
+            return plot_mode_frequencies(self.freq_hz[keep], np.array(self.mode_type)[keep], ax)
+        tables = {}
+        if kind in ("energy", "kinetic"):
+            ek = self.kinetic / np.maximum(self.kinetic.sum(1, keepdims=True), 1e-300)
+            tables["kinetic"] = (100 * ek[keep], self.dof_names, "degree of freedom [-]",
+                                 "kinetic energy per DOF (seed 003 Table 3.4 layout)")
+        if kind in ("energy", "strain"):
+            if model is not None:
+                labels, ep = strain_energy_table(model, self)
+            else:
+                labels = self.spring_names
+                ep = self.strain / np.maximum(self.strain.sum(1, keepdims=True), 1e-300)
+            tables["strain"] = (100 * ep[keep], labels, "spring [-]",
+                                "strain energy per spring"
+                                + (" (seed 003 Table 3.5 layout)" if model is not None else ""))
+        return plot_mode_energies(self.freq_hz[keep], np.nonzero(keep)[0] + 1, tables, ax)
 
 
 def _groups(freq: np.ndarray, rtol: float, atol: float) -> list[list[int]]:
