@@ -164,8 +164,17 @@ def order_spectrum_figure(
         ax.plot(healthy[dim].values, healthy.values, lw=0.6, color="tab:cyan", alpha=0.8,
                 label="healthy baseline", zorder=1)
     ax.set_ylabel(f"amplitude [{_units(record, 'channel units')}]")
-    ax.legend(loc="upper right", fontsize=7)
+    _curve_legend(ax)
     return fig
+
+
+def _curve_legend(ax: Any) -> None:
+    """Legend of the record/healthy curves, keeping a legend already drawn (marker families)."""
+    from matplotlib.legend import Legend
+
+    curves = [ln for ln in ax.lines if not ln.get_label().startswith("_")]
+    ax.add_artist(Legend(ax, curves, [ln.get_label() for ln in curves], loc="upper right",
+                         fontsize=7))
 
 
 def tsa_figure(component: str, record: xr.DataArray, healthy: xr.DataArray | None) -> Any:
@@ -174,14 +183,14 @@ def tsa_figure(component: str, record: xr.DataArray, healthy: xr.DataArray | Non
 
     fig = plot_tsa(np.asarray(record.values, float), f"TSA of {component}")
     ax = fig.axes[0]
-    ax.lines[0].set_label("record")
+    ax.lines[0].set(label="record", color="0.2")
     if healthy is not None:
         ax.plot(_angle_deg(healthy), healthy.values, lw=0.8, color="tab:cyan", alpha=0.8,
                 label="healthy baseline", zorder=1)
     ax.set_xlabel(f"angle of {component} [deg]")
     ax.set_ylabel(f"TSA [{_units(record, 'channel units')}]")
     ax.set_xlim(0, 360)
-    ax.legend(loc="upper right", fontsize=7)
+    _curve_legend(ax)
     fig.set_size_inches(10, 3)
     return fig
 
@@ -229,6 +238,7 @@ def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None) -> Any 
         nper = int(2 ** math.ceil(math.log2(max(16.0, want))))
         nper = min(nper, int(2 ** math.floor(math.log2(max(16, ch.values.size // 4)))))
         m = stft(ch.values - ch.values.mean(), fs, nperseg=nper)
+        m.attrs["units"] = ch.units
         ymax = min(fs / 2, fmax) if fmax else None
         fig = plot_map(m, ymax=ymax, title=f"Spectrogram of {channel}")
         fig.axes[0].set_ylabel("frequency [Hz]")
@@ -236,13 +246,15 @@ def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None) -> Any 
         revs = ch.values.size / ch.pulses_per_rev
         m = angular_spectrogram(ch.values - ch.values.mean(), ch.pulses_per_rev,
                                 revs_per_segment=max(1.0, min(8.0, revs / 8)))
+        m.attrs["units"] = ch.units
         fig = plot_map(m, title=f"Angular spectrogram of {channel} (orders of {ch.shaft})")
         fig.axes[0].set_ylabel(f"order of {ch.shaft} [events/rev]")
         fig.axes[0].set_xlabel(f"angle of {ch.shaft} [rev]")
     else:
         return None
     ax = fig.axes[0]
-    fig.colorbar(ax.collections[0], ax=ax, label=f"amplitude [dB re 1 {ch.units or 'unit'}]")
+    if len(fig.axes) == 1:  # no colour bar drawn by plot_map
+        fig.colorbar(ax.collections[0], ax=ax, label=f"amplitude [dB re 1 {ch.units or 'unit'}]")
     return fig
 
 
