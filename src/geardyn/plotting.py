@@ -166,15 +166,18 @@ def _coord_names(ds: xr.Dataset, dim: str) -> list[str]:
 
 
 def _legend(ax: Axes, n: int) -> None:
+    """Legend outside the axes (right), so that it never hides a curve."""
     if n > 1:
-        ax.legend(fontsize=7, ncol=max(1, (n + 7) // 8), loc="best")
+        ax.legend(fontsize=7, ncol=max(1, (n + 11) // 12), loc="upper left",
+                  bbox_to_anchor=(1.01, 1.0), frameon=False)
 
 
 def _time_panel(ax: Axes, ds: xr.Dataset, var: str, dim: str, names: list[str],
                 time_range: tuple[float, float] | None) -> None:
     da = ds[var]
-    for n in names:
-        ax.plot(ds["time"].values, da.sel({dim: n}).values, lw=0.8, label=n)
+    for i, n in enumerate(names):  # colours repeat after 10 lines: change the line style
+        ax.plot(ds["time"].values, da.sel({dim: n}).values, lw=0.8, label=n,
+                ls=("-", "--", ":", "-.")[(i // 10) % 4])
     ax.set_xlabel(axis_label(ds["time"], "time", ds["time"].attrs.get("units", "s")))
     ax.set_ylabel(axis_label(da))
     if time_range is not None:
