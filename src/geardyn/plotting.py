@@ -8,7 +8,7 @@ Every geardyn figure follows the same rules (STYLE habit 3):
   active); :func:`save_figure` writes a figure for the CLI and closes it;
 - axes are labelled ``long name [units]`` from the variables' ``long_name``/``units`` attrs,
   as xarray's ``label_from_attrs`` does (:func:`axis_label`), ``[-]`` for dimensionless or
-  categorical axes; colour bars of levels say dB and their reference (:func:`db_colorbar`).
+  categorical axes; colour bars are labelled, levels in dB with their reference (:func:`db_label`).
 
 :func:`plot_result` draws a dataset in the geardyn result layout (``docs/results.md``): shaft
 speeds, mesh forces and sensor channels. It is also ``ds.geardyn.plot()`` (xarray accessor).
@@ -70,8 +70,8 @@ def new_axes(ax: Axes | None = None, figsize: tuple[float, float] = (10.0, 4.0)
     return fig, new
 
 
-def db_colorbar(mappable: Any, ax: Axes, label: str) -> Colorbar:
-    """Colour bar of ``mappable`` next to ``ax`` with ``label`` (must say dB for levels)."""
+def labelled_colorbar(mappable: Any, ax: Axes, label: str) -> Colorbar:
+    """Colour bar of ``mappable`` next to ``ax`` with ``label`` (levels: :func:`db_label`)."""
     cb = ax.figure.colorbar(mappable, ax=ax)
     cb.set_label(label)
     return cb
@@ -96,7 +96,7 @@ def heatmap(values: np.ndarray, rows: Sequence[str], cols: Sequence[str], ax: Ax
     ax.set_xlabel(col_label)
     ax.set_ylabel(row_label)
     ax.set_title(title, fontsize=9)
-    db_colorbar(im, ax, bar_label)
+    labelled_colorbar(im, ax, bar_label)
     return im
 
 

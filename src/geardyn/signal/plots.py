@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from geardyn.plotting import axis_label, db_colorbar, db_label, new_axes, unit_text
+from geardyn.plotting import axis_label, db_label, labelled_colorbar, new_axes, unit_text
 from geardyn.signal.annotate import _COLORS as MARKER_COLORS
 from geardyn.signal.annotate import KINDS, annotate_axes
 
@@ -180,7 +180,7 @@ def plot_map(
     ax.set_xlabel(_position_label(xc, use_speed))
     ax.set_ylabel(axis_label(m[ydim], str(ydim)))
     ax.set_title(title)
-    db_colorbar(mesh, ax, db_label(str(m.attrs.get("long_name", "amplitude")),
+    labelled_colorbar(mesh, ax, db_label(str(m.attrs.get("long_name", "amplitude")),
                                    _units(m, units)))
     return fig
 
