@@ -68,10 +68,7 @@ def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> xr.Dataset:  
     cfg = _seeded(cfg, seed)
     sim = cfg.planetary_dynamics.simulation
     t1 = sim.t_end_s if t_end_s is None else t_end_s
-    import inspect
-
-    kw = {"t_end_s": t1} if "t_end_s" in inspect.signature(prepare).parameters else {}
-    p = prepare(cfg, **kw)
+    p = prepare(cfg, t_end_s=t1)
     model = p.model
     names = body_links(cfg, model)
     res = newmark(p.system, p.q0, p.v0, t1, sim.dt_s, save_every=sim.save_every,

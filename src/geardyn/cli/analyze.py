@@ -198,6 +198,9 @@ def analyze(
         if sim_channel is not None:
             label = f"channel '{sim_channel.name}' of {label}"
 
+    if revolutions < 1:
+        raise InputError(f"{label}: the record covers {revolutions:.2f} revolutions of '{ref}'; "
+                         "at least one is needed (record longer or choose a faster shaft)")
     max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
     if max_mesh > max_valid:
         console.print(
