@@ -108,7 +108,8 @@ class Components:
 
     ``ratios``: signed speed ratio ``ω_link/ω_ref`` of every link (frame 0);
     ``items``: the components (shafts, wheels — kinds wheel/sun/planet/ring — and bearings);
-    ``planetary``: the planetary stages.
+    ``planetary``: the planetary stages; ``analysis``: the kinematics they come from;
+    ``input_speeds``: the operating point of a mechanism with more than one DOF (else None).
     """
 
     mechanism: str
@@ -116,6 +117,8 @@ class Components:
     ratios: dict[str, float]
     items: list[Component]
     planetary: list[PlanetaryStageInfo]
+    analysis: KinematicAnalysis | None = None
+    input_speeds: dict[str, float] | None = None
 
     def of_kind(self, *kinds: str) -> list[Component]:
         """Components of the given kinds, in table order."""
@@ -401,7 +404,13 @@ def machine_components(
             )
         )
     return Components(
-        mechanism=g.name, reference=reference, ratios=ratios, items=items, planetary=stages
+        mechanism=g.name,
+        reference=reference,
+        ratios=ratios,
+        items=items,
+        planetary=stages,
+        analysis=analysis,
+        input_speeds=dict(input_speeds) if input_speeds else None,
     )
 
 

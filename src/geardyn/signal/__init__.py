@@ -21,9 +21,20 @@ from geardyn.signal.indicators import (
     nb4,
     peak,
     rms,
+    sideband_energy_ratio,
+    sideband_kurtosis,
     sideband_level_factor,
     signal_indicators,
     skewness,
+    wheel_indicators,
+    wheel_sideband_orders,
+)
+from geardyn.signal.kurtogram import best_band, kurtogram, spectral_kurtosis
+from geardyn.signal.order_track import (
+    SpeedEstimate,
+    order_amplitudes,
+    order_track,
+    speed_from_order,
 )
 from geardyn.signal.resample import (
     AngleSignal,
@@ -58,6 +69,7 @@ from geardyn.signal.tsa import (
     planetary_tsa,
     regular_signal,
     residual_signal,
+    tooth_counts,
     tsa,
     tsa_from_tacho,
 )
@@ -66,6 +78,18 @@ from geardyn.signal.wavelet import cwt_morlet
 __all__ = [
     "GTDT",
     "AngleSignal",
+    "SpeedEstimate",
+    "best_band",
+    "kurtogram",
+    "order_amplitudes",
+    "order_track",
+    "sideband_energy_ratio",
+    "sideband_kurtosis",
+    "spectral_kurtosis",
+    "speed_from_order",
+    "tooth_counts",
+    "wheel_indicators",
+    "wheel_sideband_orders",
     "amplitude_spectrum",
     "angle_from_pulses",
     "angle_from_speed",

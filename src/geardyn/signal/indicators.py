@@ -260,6 +260,7 @@ def wheel_nb4(
     other_teeth: Sequence[int] = (),
     sidebands: int = 3,
     history: Sequence[np.ndarray] = (),
+    mesh_harmonics: int | None = None,
 ) -> float:
     """NB4 (Zakrajsek et al. 1993) restricted to one wheel: NA4 of the envelope of the signal
     rebuilt from the wheel's mesh harmonics and unambiguous sidebands
@@ -267,7 +268,7 @@ def wheel_nb4(
 
     def env(t: np.ndarray) -> np.ndarray:
         a = array1d("tsa_signal", t, 4)
-        mesh, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands)
+        mesh, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands, mesh_harmonics)
         return np.abs(hilbert(keep_orders(a, [*mesh, *side])))
 
     return na4(env(tsa_signal), [env(h) for h in history])
@@ -279,14 +280,18 @@ def wheel_indicators(
     other_teeth: Sequence[int] = (),
     sidebands: int = 3,
     history: Sequence[np.ndarray] = (),
+    mesh_harmonics: int | None = 3,
 ) -> dict[str, float]:
     """Indicators localising one wheel among the wheels of its shaft from the shaft's TSA, all
-    on the wheel's own mesh harmonics and unambiguous sidebands: ``SER``,
-    ``sideband_kurtosis`` and ``NB4`` (:func:`wheel_nb4`; ``history``: earlier TSAs)."""
+    on the wheel's own mesh harmonics 1…``mesh_harmonics`` (default 3, as SER practice; None:
+    up to Nyquist, where empty harmonics add only noise) and their unambiguous sidebands:
+    ``SER``, ``sideband_kurtosis`` and ``NB4`` (:func:`wheel_nb4`; ``history``: earlier
+    TSAs)."""
+    h = mesh_harmonics
     return {
-        "SER": sideband_energy_ratio(tsa_signal, teeth, other_teeth, sidebands),
-        "sideband_kurtosis": sideband_kurtosis(tsa_signal, teeth, other_teeth, sidebands),
-        "NB4": wheel_nb4(tsa_signal, teeth, other_teeth, sidebands, history),
+        "SER": sideband_energy_ratio(tsa_signal, teeth, other_teeth, sidebands, h),
+        "sideband_kurtosis": sideband_kurtosis(tsa_signal, teeth, other_teeth, sidebands, h),
+        "NB4": wheel_nb4(tsa_signal, teeth, other_teeth, sidebands, history, h),
     }
 
 

@@ -1,0 +1,657 @@
+"""Condition indicators per machine component, driven by the kinematics.
+
+:func:`extract_features` takes one channel ``x`` with the reference-shaft angle at each sample
+and the components of :func:`geardyn.diagnosis.components.machine_components`, and computes,
+per block of whole revolutions:
+
+* **shafts** (own angle ``|r|·θ_ref``, sign handled): TSA (seed 003 eq 1.25), FM0, FM4, NA4
+  (earlier blocks as history), NB4, energy ratio ER, RMS and kurtosis of the difference signal
+  (Zakrajsek, Townsend & Decker 1993) — the residual/difference signals remove the mesh
+  harmonics of **every** fixed-axis wheel on the shaft;
+* **wheels** sharing a shaft: indicators on the wheel's own unambiguous mesh sidebands
+  (:func:`geardyn.signal.indicators.wheel_indicators`: SER after Hanna et al. 2011, sideband
+  kurtosis, NB4 restricted to the wheel);
+* **sun, planets, ring**: with a ring accelerometer on a fixed ring, planet-separated TSA by
+  McFadden's window technique (:func:`geardyn.signal.planetary_tsa`; per planet, and for the
+  sun averaged over the planet windows); otherwise the TSA in the component's own angle
+  relative to the carrier (seed 004 §8.2 averages per component revolution); same indicators
+  as a shaft with the component's tooth count;
+* **bearings**: squared-envelope spectrum in orders of the reference (Antoni 2007 band choice
+  from the STFT kurtogram, :mod:`geardyn.signal.kurtogram`, unless ``envelope_band`` is given):
+  for each line BPFO/BPFI/BSF/FTF, the mean over harmonics 1–3 of the peak within
+  ``±max(2/R, 0.02·order)`` (R revolutions per block; 2 % allows for rolling-element slip) over
+  the median level in ``±max(20/R, 0.2·order)`` (Randall & Antoni 2011, "Rolling element
+  bearing diagnostics — a tutorial", MSSP 25).
+
+Resampling: the channel is first resampled to a uniform angle of the reference
+(:func:`geardyn.signal.resample_to_angle` for uniformly time-sampled channels, linear
+interpolation in angle for angle-sampled ones such as encoder IAS), then, per own-angle
+ratio, to an integer number of samples per own revolution aligned on own angle 0.
+A component with fewer whole revolutions than ``n_blocks`` gets one block per revolution; one
+with less than one revolution is left out (listed in ``Features.notes``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from geardyn.diagnosis.components import BEARING_LINES, Component, Components, machine_components
+from geardyn.errors import InputError
+from geardyn.signal._checks import array1d, positive_int
+from geardyn.signal.envelope import envelope_spectrum
+from geardyn.signal.indicators import (
+    energy_ratio,
+    fm0,
+    fm4,
+    kurtosis,
+    na4,
+    nb4,
+    rms,
+    wheel_indicators,
+)
+from geardyn.signal.kurtogram import kurtogram as stft_kurtogram
+from geardyn.signal.resample import AngleSignal, resample_to_angle
+from geardyn.signal.spectra import order_spectrum
+from geardyn.signal.tsa import difference_signal, keep_orders, planetary_tsa, residual_signal, tsa
+
+COLUMNS = ["component", "kind", "indicator", "value", "block", "channel"]
+#: Sidebands per side used to localise a wheel on a shared shaft.
+WHEEL_SIDEBANDS = 3
+#: Bearing line harmonics.
+BEARING_HARMONICS = (1, 2, 3)
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass
+class Features:
+    """Indicators of one channel and the artefacts a report shows.
+
+    ``table``: long format, columns :data:`COLUMNS` (``kind`` in shaft/wheel/bearing/sun/
+    planet/ring; ``block`` 0-based in time order; dimensionless values);
+    ``tsa``: component → one-revolution TSA (``angle`` coordinate [deg] of its own angle,
+    ``units`` of the channel); ``order_spectrum`` and ``envelope_spectrum``: coordinate
+    ``order`` [events/rev of the reference]; ``band``: envelope band (orders); ``kurtogram``:
+    (window, frequency [orders]) or None; ``markers``: :func:`geardyn.signal.spectral_markers`
+    at the mean speed, or None.
+    """
+
+    table: pd.DataFrame
+    tsa: dict[str, xr.DataArray]
+    order_spectrum: xr.DataArray | None
+    envelope_spectrum: xr.DataArray | None
+    band: tuple[float, float] | None
+    kurtogram: xr.DataArray | None
+    markers: pd.DataFrame | None
+    channel: str = ""
+    units: str = ""
+    reference: str = ""
+    samples_per_rev: int = 0
+    revolutions: float = 0.0
+    mean_rpm: float = math.nan
+    notes: list[str] = field(default_factory=list)
+
+    def values(self, component: str, indicator: str) -> np.ndarray:
+        """Block values of one indicator of one component (time order)."""
+        t = self.table
+        sel = t[(t["component"] == component) & (t["indicator"] == indicator)]
+        return sel.sort_values("block")["value"].to_numpy(dtype=float)
+
+    def summary(self) -> pd.DataFrame:
+        """Median over blocks: one row per (component, kind, indicator)."""
+        g = self.table.groupby(["component", "kind", "indicator"], sort=False)["value"]
+        return g.median().reset_index()
+
+
+# ---------------------------------------------------------------------------- resampling
+def _uniform_time(time: np.ndarray) -> float | None:
+    """Sample rate [Hz] if ``time`` is uniform (relative jitter < 1e-6), else None."""
+    dt = np.diff(time)
+    mean = float(dt.mean())
+    if mean > 0 and float(np.max(np.abs(dt - mean))) <= 1e-6 * mean:
+        return 1.0 / mean
+    return None
+
+
+def _auto_samples_per_rev(n: int, revs: float, time_sampled: bool) -> int:
+    """Power of two at or above the channel's sample density (samples per reference
+    revolution), doubled for time-sampled channels so that the anti-aliasing filter of the
+    angular resampling (cut-off ``f_rot,min·spr/2.56``) leaves the channel's whole band;
+    within [64, 16384]."""
+    density = n / max(revs, 1e-12) * (2.0 if time_sampled else 1.0)
+    return int(min(16384, max(64, 2 ** math.ceil(math.log2(max(0.999 * density, 1.0))))))
+
+
+def _reference_signal(x: np.ndarray, time: np.ndarray, angle: np.ndarray, spr: int) -> AngleSignal:
+    fs = _uniform_time(time)
+    if fs is not None:
+        return resample_to_angle(x, fs, angle, samples_per_rev=spr, t0=float(time[0]))
+    dth = TWO_PI / spr
+    k0, k1 = int(np.ceil(angle[0] / dth)), int(np.floor(angle[-1] / dth))
+    if k1 - k0 < 4:
+        raise InputError("ref_angle: the record spans fewer than 4 angular samples")
+    grid = dth * np.arange(k0, k1 + 1)
+    return AngleSignal(np.interp(grid, angle, x), spr, float(grid[0]), np.interp(grid, angle, time))
+
+
+def _aligned(sig: AngleSignal) -> np.ndarray:
+    """Samples from the first one at a whole revolution (angle ≡ 0 mod 2π) to the last whole
+    revolution."""
+    spr = sig.samples_per_rev
+    k0 = int(round(sig.angle0 / (TWO_PI / spr)))
+    start = (-k0) % spr
+    n = (sig.x.size - start) // spr
+    return sig.x[start : start + n * spr]
+
+
+def _own_signal(ref: AngleSignal, abs_ratio: float, multiple: int = 2) -> tuple[np.ndarray, int]:
+    """Resample a reference-angle signal to ``abs_ratio·θ_ref`` with an integer number of
+    samples per own revolution (a multiple of ``multiple``, same angular density as the
+    reference); returns whole own revolutions aligned on own angle 0."""
+    spr_ref = ref.samples_per_rev
+    spr = max(multiple, int(math.ceil(spr_ref / abs_ratio / multiple)) * multiple)
+    spr = max(spr, 8 * multiple if multiple < 8 else multiple)
+    if abs(abs_ratio - 1.0) < 1e-12 and spr == spr_ref:
+        return _aligned(ref), spr
+    own = resample_to_angle(ref.x, float(spr_ref), abs_ratio * ref.angle, samples_per_rev=spr)
+    return _aligned(own), spr
+
+
+# ---------------------------------------------------------------------------- indicators
+def _safe(fn: Callable[[], float]) -> float:
+    try:
+        v = float(fn())
+    except (InputError, ZeroDivisionError, FloatingPointError):
+        return math.nan
+    return v if np.isfinite(v) else math.nan
+
+
+def _gear_indicators(
+    t: np.ndarray, teeth: tuple[int, ...], hist_res: list[np.ndarray], hist_tsa: list[np.ndarray]
+) -> tuple[dict[str, float], np.ndarray]:
+    """Shaft/gear TSA indicators of one block (Zakrajsek, Townsend & Decker 1993); returns the
+    indicators and the residual (history for NA4 of later blocks)."""
+    if teeth:
+        d = difference_signal(t, teeth)
+        r = residual_signal(t, teeth)
+        out = {
+            "FM0": _safe(lambda: fm0(t, teeth)),
+            "FM4": _safe(lambda: fm4(d)),
+            "NA4": _safe(lambda: na4(r, hist_res)),
+            "NB4": _safe(lambda: nb4(t, teeth, hist_tsa)),
+            "ER": _safe(lambda: energy_ratio(t, teeth)),
+        }
+    else:  # no mesh periodic in this angle: remove the mean and the shaft order only
+        d = t - keep_orders(t, [0, 1])
+        r = d
+        out = {"NA4": _safe(lambda: na4(r, hist_res))}
+    out["diff_rms"] = _safe(lambda: rms(d))
+    out["diff_kurtosis"] = _safe(lambda: kurtosis(d))
+    return out, r
+
+
+def _blocks(n_rev: int, n_blocks: int) -> tuple[int, int]:
+    """(blocks, revolutions per block): ``n_blocks`` if possible, else one per revolution."""
+    nb = min(n_blocks, n_rev)
+    return nb, n_rev // nb
+
+
+def _tsa_array(t: np.ndarray, comp: Component, units: str, revs: int, how: str) -> xr.DataArray:
+    n = t.size
+    return xr.DataArray(
+        t,
+        coords={"angle": ("angle", np.arange(n) * 360.0 / n, {"units": "deg"})},
+        dims="angle",
+        name=comp.name,
+        attrs={
+            "units": units,
+            "long_name": f"TSA of {comp.name}",
+            "kind": comp.kind,
+            "ratio": comp.ratio,
+            "revolutions": revs,
+            "method": how,
+        },
+    )
+
+
+@dataclass
+class _Ctx:
+    ref: AngleSignal
+    n_blocks: int
+    channel: str
+    units: str
+    rows: list[dict[str, Any]]
+    tsas: dict[str, xr.DataArray]
+    notes: list[str]
+    cache: dict[tuple[float, int], tuple[np.ndarray, int]] = field(default_factory=dict)
+
+    def own(self, abs_ratio: float, multiple: int = 2) -> tuple[np.ndarray, int]:
+        key = (round(abs_ratio, 12), multiple)
+        if key not in self.cache:
+            self.cache[key] = _own_signal(self.ref, abs_ratio, multiple)
+        return self.cache[key]
+
+    def add(self, comp: Component, values: dict[str, float], block: int) -> None:
+        for name, v in values.items():
+            self.rows.append(
+                {
+                    "component": comp.name,
+                    "kind": comp.kind,
+                    "indicator": name,
+                    "value": float(v),
+                    "block": block,
+                    "channel": self.channel,
+                }
+            )
+
+
+def _own_angle_component(ctx: _Ctx, comp: Component, wheel_mode: bool) -> None:
+    """TSA in the component's own angle, per block: gear indicators (shafts, sun/planet/ring
+    without a ring sensor) or per-wheel sideband indicators (wheels)."""
+    xs, spr = ctx.own(comp.abs_ratio)
+    n_rev = xs.size // spr
+    if n_rev < 1:
+        ctx.notes.append(
+            f"{comp.name}: less than one revolution of its own angle (|ratio| "
+            f"{comp.abs_ratio:.4g}) in the record; left out"
+        )
+        return
+    nb, rpb = _blocks(n_rev, ctx.n_blocks)
+    hist_res: list[np.ndarray] = []
+    hist_tsa: list[np.ndarray] = []
+    for b in range(nb):
+        t = tsa(xs[b * rpb * spr : (b + 1) * rpb * spr], spr)
+        if wheel_mode:
+            teeth = int(comp.teeth or comp.mesh_orders[0])
+            vals = _safe_dict(
+                lambda t=t, z=teeth: wheel_indicators(
+                    t, z, comp.other_orders, WHEEL_SIDEBANDS, list(hist_tsa)
+                ),
+                ("SER", "sideband_kurtosis", "NB4"),
+            )
+        else:
+            vals, r = _gear_indicators(t, comp.mesh_orders, hist_res, hist_tsa)
+            hist_res.append(r)
+        hist_tsa.append(t)
+        ctx.add(comp, vals, b)
+    if comp.name not in ctx.tsas:
+        whole = tsa(xs[: n_rev * spr], spr)
+        ctx.tsas[comp.name] = _tsa_array(whole, comp, ctx.units, n_rev, "own-angle TSA")
+
+
+def _safe_dict(fn: Callable[[], dict[str, float]], keys: tuple[str, ...]) -> dict[str, float]:
+    try:
+        return {k: (float(v) if np.isfinite(v) else math.nan) for k, v in fn().items()}
+    except InputError:
+        return dict.fromkeys(keys, math.nan)
+
+
+def _planetary_components(
+    ctx: _Ctx, comps: Components, stage_name: str, sensor_angle: float
+) -> set[str]:
+    """Planet-separated TSA (McFadden window technique) of the sun, each planet and the ring of
+    a fixed-ring stage seen by a ring accelerometer. Returns the components handled."""
+    st = next((s for s in comps.planetary if s.name == stage_name), None)
+    if st is None or not st.ring_fixed:
+        ctx.notes.append(
+            f"ring sensor: stage {stage_name!r} not found or its ring turns; own-angle TSA used"
+        )
+        return set()
+    zr, n = st.ring_teeth, st.n_planets
+    stepped = st.planet_sun_teeth != st.planet_ring_teeth
+    xs, spc = ctx.own(abs(st.ring_ratio), zr)
+    n_rev = xs.size // spc
+    if n_rev < 1:
+        ctx.notes.append(f"stage {st.name}: less than one carrier revolution; left out")
+        return set()
+    # carrier angle relative to the ring u = |r|·θ_ref: its sense decides the passage angles
+    psi = np.asarray(st.planet_angles)
+    s0 = sensor_angle + np.pi / n  # planet 0 passes the sensor (geardyn.sensors planet_pass)
+    if st.ring_ratio > 0:  # θ_c − θ_r decreases as θ_ref grows: u = −(θ_c − θ_r)
+        s0, psi = -s0, np.mod(-psi, TWO_PI)
+    handled: set[str] = set()
+    members = [c for c in comps.items if c.stage == st.name and c.kind in ("sun", "planet")]
+    nb, rpb = _blocks(n_rev, ctx.n_blocks)
+
+    def windowed(seg: np.ndarray, teeth: int, planet: int) -> np.ndarray | None:
+        for wt in dict.fromkeys((2, max(2, zr // (2 * n)), max(2, zr // n))):
+            try:
+                return planetary_tsa(seg, spc, zr, teeth, n, planet, psi, s0, wt)
+            except InputError:
+                continue
+        return None
+
+    for comp in members:
+        if comp.kind == "sun" and stepped:
+            continue  # sun and ring meshes differ in count: own-angle TSA instead
+        teeth = int(comp.teeth or comp.mesh_orders[0])
+        planets = list(range(n)) if comp.kind == "sun" else [int(comp.planet or 0)]
+        hist_res: dict[int, list[np.ndarray]] = {p: [] for p in planets}
+        hist_tsa: dict[int, list[np.ndarray]] = {p: [] for p in planets}
+        ok = True
+        for b in range(nb):
+            seg = xs[b * rpb * spc : (b + 1) * rpb * spc]
+            per_planet = []
+            for p in planets:
+                t = windowed(seg, teeth, p)
+                if t is None:
+                    ok = False
+                    break
+                vals, r = _gear_indicators(t, (teeth,), hist_res[p], hist_tsa[p])
+                hist_res[p].append(r)
+                hist_tsa[p].append(t)
+                per_planet.append(vals)
+            if not ok:
+                break
+            keys = per_planet[0].keys()
+            ctx.add(comp, {k: float(np.nanmean([v[k] for v in per_planet])) for k in keys}, b)
+        if not ok:
+            ctx.rows[:] = [r for r in ctx.rows if r["component"] != comp.name]
+            ctx.notes.append(
+                f"{comp.name}: too few carrier revolutions per block for the planet windows to "
+                "cover every tooth; own-angle TSA used"
+            )
+            continue
+        whole = windowed(xs[: n_rev * spc], teeth, planets[0])
+        if whole is not None:
+            ctx.tsas[comp.name] = _tsa_array(
+                whole, comp, ctx.units, n_rev, f"planet-window TSA (planet {planets[0]})"
+            )
+        handled.add(comp.name)
+    return handled
+
+
+# ---------------------------------------------------------------------------- bearings
+def _line_ratio(ses: np.ndarray, res: float, order: float) -> float:
+    """Peak of a squared-envelope spectrum within ±max(2 bins, 2 %) of ``order`` over the
+    median in ±max(20 bins, 20 %) (orders; ``res`` = bin width)."""
+    tol = max(2.0 * res, 0.02 * order)
+    wide = max(20.0 * res, 0.2 * order)
+    i0, i1 = int(np.floor((order - tol) / res)), int(np.ceil((order + tol) / res))
+    j0, j1 = int(np.floor((order - wide) / res)), int(np.ceil((order + wide) / res))
+    if i0 < 1 or j1 >= ses.size:
+        return math.nan
+    peak = float(np.max(ses[i0 : i1 + 1]))
+    level = float(np.median(ses[max(1, j0) : j1 + 1]))
+    return peak / level if level > 0 else math.nan
+
+
+def _bearing_features(
+    ctx: _Ctx, comps: Components, band: tuple[float, float] | None
+) -> xr.DataArray | None:
+    bearings = comps.bearings
+    x = _aligned(ctx.ref)
+    spr = ctx.ref.samples_per_rev
+    n_rev = x.size // spr
+    if n_rev < 1:
+        return None
+    whole = envelope_spectrum(x, float(spr), band)
+    whole = whole.rename(frequency="order")
+    whole["order"].attrs["units"] = "events/rev"
+    whole.attrs["units"] = f"({ctx.units})^2" if ctx.units else ""
+    if not bearings:
+        return whole
+    nb, rpb = _blocks(n_rev, ctx.n_blocks)
+    for b in range(nb):
+        seg = x[b * rpb * spr : (b + 1) * rpb * spr]
+        try:
+            ses = envelope_spectrum(seg, float(spr), band).values
+        except InputError:
+            continue
+        res = 1.0 / rpb
+        for comp in bearings:
+            vals = {}
+            for line in BEARING_LINES:
+                o = float(comp.fault_orders.get(line, math.nan))
+                if not np.isfinite(o) or o <= 0:
+                    continue
+                ratios = [_line_ratio(ses, res, h * o) for h in BEARING_HARMONICS]
+                ratios = [r for r in ratios if np.isfinite(r)]
+                vals[line] = float(np.mean(ratios)) if ratios else math.nan
+            ctx.add(comp, vals, b)
+    return whole
+
+
+# ---------------------------------------------------------------------------- public API
+def extract_features(
+    x: np.ndarray,
+    time: np.ndarray,
+    ref_angle: np.ndarray,
+    components: Components,
+    *,
+    channel: str = "",
+    units: str = "",
+    n_blocks: int = 4,
+    samples_per_rev: int | None = None,
+    envelope_band: tuple[float, float] | None = None,
+    ring_stage: str | None = None,
+    sensor_angle: float = 0.0,
+) -> Features:
+    """Indicators per component of one channel (see the module docstring).
+
+    ``x``: channel samples (1-D, units ``units``); ``time`` [s] of each sample (need not be
+    uniform: angle-sampled channels such as encoder IAS are interpolated in angle);
+    ``ref_angle`` [rad]: the reference shaft's angle at each sample (monotonic; a decreasing
+    angle, a shaft turning backwards, is negated). ``components``: from
+    :func:`~geardyn.diagnosis.components.machine_components` (reference = the shaft of
+    ``ref_angle``). ``n_blocks``: blocks of whole own revolutions per component.
+    ``samples_per_rev``: of the reference grid (default: power of two ≥ the channel's density).
+    ``envelope_band``: (lo, hi) in reference orders (default: kurtogram).
+    ``ring_stage``: planetary stage whose fixed ring carries this accelerometer (planet-window
+    TSA; ``sensor_angle`` [rad] as in :func:`geardyn.sensors.planet_pass_signal`).
+    """
+    xs = array1d("x", x, 16)
+    t = array1d("time", time, xs.size, "sample times [s]")
+    th = array1d("ref_angle", ref_angle, xs.size, "reference angle [rad]")
+    if t.size != xs.size or th.size != xs.size:
+        raise InputError(
+            f"time/ref_angle: need one value per sample of x ({xs.size}), got "
+            f"{t.size} and {th.size}"
+        )
+    nb = positive_int("n_blocks", n_blocks, "number of blocks")
+    if not np.all(np.diff(t) > 0):
+        raise InputError("time: sample times must increase strictly")
+    d = np.diff(th)
+    if np.all(d < 0):
+        th = -th
+    elif not np.all(d > 0):
+        raise InputError(
+            "ref_angle: the reference angle must be strictly monotonic (the shaft stops or "
+            "reverses in the record; crop it)"
+        )
+    revs = (th[-1] - th[0]) / TWO_PI
+    if revs < 1.0:
+        raise InputError(f"ref_angle: the record spans {revs:.3g} reference revolutions; needs ≥ 1")
+    spr = (
+        _auto_samples_per_rev(xs.size, revs, _uniform_time(t) is not None)
+        if samples_per_rev is None
+        else positive_int("samples_per_rev", samples_per_rev, "samples per revolution", 8)
+    )
+    ref = _reference_signal(xs, t, th, spr)
+    duration = float(t[-1] - t[0])
+    mean_rpm = 60.0 * revs / duration if duration > 0 else math.nan
+    ctx = _Ctx(ref, nb, channel, units, [], {}, [])
+
+    whole_ref = _aligned(ref)
+    spec = None
+    if whole_ref.size >= 4 * spr or whole_ref.size >= spr:
+        spec = order_spectrum(whole_ref, spr).rename("amplitude")
+        spec.attrs["units"] = units
+    # envelope band
+    kg = None
+    band = None
+    if envelope_band is not None:
+        lo, hi = (float(v) for v in envelope_band)
+        if not 0 < lo < hi < spr / 2:
+            raise InputError(
+                f"envelope_band: need 0 < lo < hi < {spr / 2:g} orders (Nyquist of the "
+                f"reference grid), got ({lo:g}, {hi:g})"
+            )
+        band = (lo, hi)
+    else:
+        try:
+            top = min(float(ref.max_valid_order), 0.5 * spr)
+            kg = stft_kurtogram(whole_ref, float(spr), unit="events/rev", fmax=top)
+            band = tuple(kg.attrs.pop("band"))
+            kg.attrs["band_lo"], kg.attrs["band_hi"] = band
+        except InputError as exc:
+            ctx.notes.append(f"kurtogram: {exc}; envelope of the full band")
+    env = _bearing_features(ctx, components, band)
+
+    handled: set[str] = set()
+    if ring_stage is not None:
+        stage = ring_stage or (components.planetary[0].name if components.planetary else "")
+        handled = _planetary_components(ctx, components, stage, sensor_angle)
+    for comp in components.items:
+        if comp.kind == "bearing" or comp.name in handled:
+            continue
+        _own_angle_component(ctx, comp, wheel_mode=comp.kind == "wheel")
+
+    markers = _markers(components, mean_rpm)
+    table = pd.DataFrame(ctx.rows, columns=COLUMNS)
+    return Features(
+        table=table,
+        tsa=ctx.tsas,
+        order_spectrum=spec,
+        envelope_spectrum=env,
+        band=None if band is None else (float(band[0]), float(band[1])),
+        kurtogram=kg,
+        markers=markers,
+        channel=channel,
+        units=units,
+        reference=components.reference,
+        samples_per_rev=spr,
+        revolutions=float(revs),
+        mean_rpm=float(mean_rpm),
+        notes=ctx.notes,
+    )
+
+
+def _markers(components: Components, mean_rpm: float) -> pd.DataFrame | None:
+    """Spectral markers at the mean reference speed (orders do not depend on it)."""
+    if components.analysis is None or not np.isfinite(mean_rpm) or mean_rpm <= 0:
+        return None
+    from geardyn.kinematics.frequencies import characteristic_frequencies
+    from geardyn.signal.annotate import spectral_markers
+
+    ref = components.reference
+    inputs = (
+        {
+            k: float(v) * mean_rpm / float(components.input_speeds[ref])
+            for k, v in components.input_speeds.items()
+        }
+        if components.input_speeds
+        else {ref: mean_rpm}
+    )
+    try:
+        freqs = characteristic_frequencies(components.analysis, inputs, order_reference=ref)
+        return spectral_markers(freqs)
+    except (InputError, KeyError, ZeroDivisionError):
+        return None
+
+
+_RING = re.compile(r"ring of stage '([^']*)'")
+
+
+def _reference_angle(ds: xr.Dataset, comps: Components, reference: str, time: np.ndarray):
+    """Reference angle at ``time``: from a tacho channel on a shaft of the mechanism (pulse
+    angles ``k·2π/R`` through :func:`geardyn.signal.angle_from_pulses`, divided by the shaft's
+    ratio), else from the result's ``angle`` of the reference shaft. Returns (mask of ``time``
+    inside the source span, angle [rad] on those samples, source description)."""
+    from geardyn import results
+    from geardyn.signal.resample import angle_from_pulses
+
+    tachos = []
+    for name in results.channels(ds):
+        ch = results.channel(ds, name)
+        r = comps.ratios.get(ch.shaft, 0.0)
+        if ch.kind == "tacho" and r != 0.0 and ch.values.size >= 3:
+            tachos.append((ch.shaft != reference, ch, r))
+    if tachos:
+        _, ch, r = sorted(tachos, key=lambda z: z[0])[0]
+        tp = np.asarray(ch.values, float)
+        mask = (time >= tp[0]) & (time <= tp[-1])
+        ang = angle_from_pulses(tp, time[mask], ch.pulses_per_rev or 1) / abs(r)
+        return mask, ang, f"tacho '{ch.name}' on '{ch.shaft}'"
+    shaft_names = results.shafts(ds)
+    src = reference if reference in shaft_names else None
+    if src is None:
+        src = next((s for s in shaft_names if comps.ratios.get(s, 0.0) != 0.0), None)
+    if src is None:
+        raise InputError(
+            f"reference: no shaft of the result ({', '.join(shaft_names)}) turns with "
+            f"'{reference}'; give reference= one of the mechanism's links"
+        )
+    ts, th = results.shaft_angle(ds, src)
+    mask = (time >= ts[0]) & (time <= ts[-1])
+    ang = np.interp(time[mask], ts, th) / comps.ratios[src]
+    return mask, ang, f"result angle of '{src}'"
+
+
+def features_from_result(
+    ds: xr.Dataset,
+    cfg,
+    channel: str,
+    reference: str | None = None,
+    skip_s: float = 0.0,
+    n_blocks: int = 4,
+) -> Features:
+    """:func:`extract_features` of a sensor channel of a simulation result (docs/results.md).
+
+    ``reference``: reference link (default: the channel's shaft, else the result's
+    ``reference_shaft``). The reference angle comes from a tacho channel if the result has one
+    on a turning link, else from the result's ``angle`` of the reference shaft interpolated at
+    the channel's sample times. ``skip_s`` [s] of start transient are dropped. A ring
+    accelerometer (``location`` "ring of stage 'X'") gets planet-window TSA for that stage
+    (``sensor_angle_deg`` attr, default 0).
+    """
+    from geardyn import results
+
+    ch = results.channel(ds, channel)
+    if ch.sampling == "events":
+        raise InputError(
+            f"channel: '{ch.name}' holds pulse times ({ch.kind}), not a signal to diagnose; "
+            f"choose one of {', '.join(results.channels(ds))} that is an accelerometer or encoder"
+        )
+    ref = reference or ch.shaft or str(ds.attrs.get("reference_shaft", ""))
+    if not ref:
+        raise InputError("reference: not given and the channel names no shaft")
+    comps = machine_components(cfg, ref)
+    skip = float(skip_s)
+    if not np.isfinite(skip) or skip < 0:
+        raise InputError(f"skip_s: must be a finite number ≥ 0 [s], got {skip_s!r}")
+    time = np.asarray(ch.time, float)
+    x = np.asarray(ch.values, float)
+    keep = time >= time[0] + skip
+    if keep.sum() < 16:
+        raise InputError(
+            f"skip_s: dropping {skip:g} s leaves {int(keep.sum())} samples of '{ch.name}' "
+            f"(record {time[0]:g}–{time[-1]:g} s)"
+        )
+    time, x = time[keep], x[keep]
+    mask, ang, _src = _reference_angle(ds, comps, ref, time)
+    loc = str(ch.attrs.get("location", ""))
+    m = _RING.search(loc)
+    ring_stage = m.group(1) if (m and ch.kind == "accelerometer") else None
+    sensor = math.radians(float(ch.attrs.get("sensor_angle_deg", 0.0)))
+    return extract_features(
+        x[mask],
+        time[mask],
+        ang,
+        comps,
+        channel=ch.name,
+        units=ch.units,
+        n_blocks=n_blocks,
+        ring_stage=ring_stage,
+        sensor_angle=sensor,
+    )
+
+
+__all__ = ["COLUMNS", "Features", "extract_features", "features_from_result"]
