@@ -151,3 +151,143 @@ def test_bad_input_is_named(comps):
         extract_features(x, t, th, comps, n_blocks=0)
     with pytest.raises(InputError, match="envelope_band"):
         extract_features(x, t, th, comps, envelope_band=(10.0, 5.0))
+
+
+# ---------------------------------------------------------------- planetary, ring sensor
+ZR, ZP, NPL = 83, 32, 3  # seed 004 Table 6-2
+
+
+def ring_signal(seed: int, planet_fault: int | None = None, ring_fault: bool = False):
+    """Ring-accelerometer signal of the seed 004 stage (sun reference, carrier = 19/102 of
+    it): each planet's ring mesh (harmonics 1, 2; sequential phasing Z_r·ψ_n) weighted by its
+    planet-pass window (seed 003 eqs 4.10–4.12, :func:`geardyn.sensors.planet_pass_windows`,
+    sensor at 0). A planet fault modulates that planet's mesh by 50 % (Gaussian, σ = 1.5
+    tooth pitches) once per planet revolution relative to the carrier (mesh count mod Z_p); a
+    ring fault modulates the mesh of whichever planet passes the faulty ring tooth at 60°.
+    24 carrier revolutions, 512 samples per sun revolution, white noise σ = 0.1."""
+    from geardyn.sensors.planet_pass import planet_pass_windows
+
+    th_s = 2 * np.pi * np.arange(int(24 * 102 / 19 * 512)) / 512
+    th_c = 19 / 102 * th_s
+    psi = 2 * np.pi * np.arange(NPL) / NPL
+    w = planet_pass_windows(th_c, NPL, psi, 0.0)
+    x = np.zeros_like(th_s)
+    for n in range(NPL):
+        m = np.ones_like(th_s)
+        if n == planet_fault:
+            d = np.mod(ZR / ZP * th_c - 1.0, 2 * np.pi) - np.pi
+            m += 0.5 * np.exp(-0.5 * (d / (1.5 * 2 * np.pi / ZP)) ** 2)
+        if ring_fault:
+            d = np.mod(th_c - psi[n] - np.pi / 3 + np.pi, 2 * np.pi) - np.pi
+            m += 0.5 * np.exp(-0.5 * (d / (1.5 * 2 * np.pi / ZR)) ** 2)
+        ph = ZR * (th_c - psi[n])
+        x += w[n] * m * (np.cos(ph) + 0.3 * np.cos(2 * ph + 0.4))
+    x += np.random.default_rng(seed).normal(0, 0.1, x.size)
+    return x, th_s / np.pi, th_s  # sun at 0.5 rev/s
+
+
+@pytest.fixture(scope="module")
+def seed004():
+    return machine_components(geardyn.load_config(EXAMPLES / "planetary_reclaimer.toml"), "sun")
+
+
+def _fm4(comps, sig):
+    f = extract_features(*sig, comps, ring_stage="planetary", n_blocks=4)
+    s = f.summary()
+    return s[s.indicator == "FM4"].set_index("component")["value"], f
+
+
+def test_planet_window_tsa_localises_the_faulty_planet(seed004):
+    """McFadden's window technique on the ring channel: measured FM4 (median of 4 blocks of
+    6 carrier revolutions) healthy 2.95–3.12 for every planet; with a fault on planet 2
+    (index 1) 4.9 on planet 2, the others and the sun unchanged (3.0–3.1). Asserted: planet 2
+    > 4.2, every other planet/sun/ring < 3.6."""
+    healthy, fh = _fm4(seed004, ring_signal(3))
+    faulty, ff = _fm4(seed004, ring_signal(3, planet_fault=1))
+    planets = [c.name for c in seed004.of_kind("planet")]
+    assert all(healthy[p] < 3.6 for p in planets)
+    assert faulty[planets[1]] > 4.2
+    for other in (planets[0], planets[2], "planetary.sun", "planetary.ring"):
+        assert faulty[other] < 3.6
+    assert ff.tsa[planets[1]].attrs["method"].startswith("planet-window TSA")
+    assert ff.tsa[planets[1]].size % ZP == 0  # Z_p ring-mesh periods of whole samples
+    assert not ff.notes
+
+
+def test_ring_fault_seen_in_the_carrier_angle_tsa(seed004):
+    """Ring fault at 60°: measured ring FM4 3.0 healthy → 5.0, planets and sun 2.8–2.9 (the
+    planet-pass sidebands k·Z_r → multiples of N are counted as regular meshing, so the
+    healthy ring's FM4 stays Gaussian-like). Asserted: ring > 4.2, planets and sun < 3.6."""
+    healthy, _ = _fm4(seed004, ring_signal(4))
+    faulty, _ = _fm4(seed004, ring_signal(5, ring_fault=True))
+    assert healthy["planetary.ring"] < 3.6
+    assert faulty["planetary.ring"] > 4.2
+    for c in seed004.of_kind("planet", "sun"):
+        assert faulty[c.name] < 3.6
+
+
+# ---------------------------------------------------------------- result layout
+def _result(x, t, theta, with_tacho: bool):
+    """A minimal dataset in the geardyn result layout (docs/results.md): shafts input,
+    intermediate, output with their angles; an accelerometer on the input; a once-per-rev
+    tacho on the intermediate shaft (counter-rotating) if asked."""
+    import xarray as xr
+
+    angles = np.stack([theta, -R_INT * theta, R_OUT * theta], axis=1)
+    ds = xr.Dataset(
+        {"angle": (("time", "shaft"), angles, {"units": "rad"})},
+        coords={"time": ("time", t, {"units": "s"}), "shaft": ["input", "intermediate", "output"]},
+        attrs={"geardyn_layout": "geardyn.result/1", "reference_shaft": "input"},
+    )
+    ds["sensors.acc"] = xr.DataArray(
+        x,
+        dims=("sensors.acc.time",),
+        coords={"sensors.acc.time": t},
+        attrs={
+            "sensor_kind": "accelerometer",
+            "units": "m/s^2",
+            "sampling": "time",
+            "shaft": "input",
+            "sample_rate_hz": FS,
+            "location": "bearing 'input ball'",
+        },
+    )
+    if with_tacho:
+        phi = R_INT * theta
+        pulses = np.interp(2 * np.pi * np.arange(1, int(phi[-1] / (2 * np.pi)) + 1), phi, t)
+        ds["sensors.tacho"] = xr.DataArray(
+            pulses,
+            dims=("sensors.tacho.pulse",),
+            attrs={
+                "sensor_kind": "tacho",
+                "units": "s",
+                "sampling": "events",
+                "shaft": "intermediate",
+                "pulses_per_rev": 1,
+            },
+        )
+    return ds
+
+
+def test_features_from_result_with_and_without_tacho():
+    """Both reference sources (tacho on the counter-rotating intermediate shaft, divided by
+    its ratio; the result's input angle) give the same indicators on the faulty-wheel signal:
+    measured intermediate FM4 7.67 (result angle) and 7.37 (tacho, 0.3 s skipped; the tacho
+    also crops the record to its pulse span, so the blocks differ); asserted within 10 %.
+    skip_s drops 0.3 s ≈ 5 input revolutions."""
+    from geardyn.diagnosis.features import features_from_result
+
+    cfg = geardyn.load_config(EXAMPLES / "seed002_transmission.toml")
+    x, t, th = transmission_signal(True, False, 3)
+    a = features_from_result(_result(x, t, th, False), cfg, "acc")
+    b = features_from_result(_result(x, t, th, True), cfg, "acc", skip_s=0.3)
+    assert a.channel == "acc" and a.units == "m/s^2" and a.reference == "input"
+    fa = float(np.median(a.values("intermediate", "FM4")))
+    fb = float(np.median(b.values("intermediate", "FM4")))
+    assert fa > 6.0
+    assert fb == pytest.approx(fa, rel=0.1)
+    assert b.revolutions < a.revolutions - 0.3 * F0 * 0.9
+    with pytest.raises(InputError, match="channel: 'tacho' holds pulse times"):
+        features_from_result(_result(x, t, th, True), cfg, "tacho")
+    with pytest.raises(InputError, match="channel: 'nope' not found"):
+        features_from_result(_result(x, t, th, True), cfg, "nope")

@@ -174,10 +174,17 @@ def _safe(fn: Callable[[], float]) -> float:
 
 
 def _gear_indicators(
-    t: np.ndarray, teeth: tuple[int, ...], hist_res: list[np.ndarray], hist_tsa: list[np.ndarray]
+    t: np.ndarray,
+    teeth: tuple[int, ...],
+    hist_res: list[np.ndarray],
+    hist_tsa: list[np.ndarray],
+    regular: frozenset[int] = frozenset(),
 ) -> tuple[dict[str, float], np.ndarray]:
     """Shaft/gear TSA indicators of one block (Zakrajsek, Townsend & Decker 1993); returns the
-    indicators and the residual (history for NA4 of later blocks)."""
+    indicators and the residual (history for NA4 of later blocks). ``regular``: orders counted
+    as regular meshing besides the mesh harmonics (the planet-pass sidebands of a ring)."""
+    if regular:
+        return _gear_indicators_orders(t, teeth, hist_res, hist_tsa, regular)
     if teeth:
         d = difference_signal(t, teeth)
         r = residual_signal(t, teeth)
@@ -195,6 +202,52 @@ def _gear_indicators(
     out["diff_rms"] = _safe(lambda: rms(d))
     out["diff_kurtosis"] = _safe(lambda: kurtosis(d))
     return out, r
+
+
+def _gear_indicators_orders(
+    t: np.ndarray,
+    teeth: tuple[int, ...],
+    hist_res: list[np.ndarray],
+    hist_tsa: list[np.ndarray],
+    regular: frozenset[int],
+) -> tuple[dict[str, float], np.ndarray]:
+    """As :func:`_gear_indicators` with an explicit set of regular orders (same definitions,
+    Zakrajsek et al. 1993: residual = TSA − regular − shaft order 1; difference = residual −
+    first-order sidebands of the regular orders)."""
+    n = t.size
+    reg = sorted(o for o in regular if 0 < o < n // 2)
+    side = {o + j for o in reg for j in (-1, 1)}
+    reg_sig = keep_orders(t, reg)
+    r = t - keep_orders(t, [0, 1, *reg])
+    d = t - keep_orders(t, sorted({0, 1, *reg, *side}))
+    amp = np.abs(np.fft.rfft(t))[reg] * 2.0 / n
+    out = {
+        "FM0": _safe(lambda: (t.max() - t.min()) / float(amp.sum())),
+        "FM4": _safe(lambda: fm4(d)),
+        "NA4": _safe(lambda: na4(r, hist_res)),
+        "NB4": _safe(lambda: nb4(t, teeth, hist_tsa)),
+        "ER": _safe(lambda: rms(d) / rms(reg_sig)),
+        "diff_rms": _safe(lambda: rms(d)),
+        "diff_kurtosis": _safe(lambda: kurtosis(d)),
+    }
+    return out, r
+
+
+def _planet_pass_orders(comp: Component, comps: Components, n: int) -> frozenset[int]:
+    """Regular orders of a ring seen from a fixed point: the mesh harmonics ``h·Z_r`` and the
+    multiples of N within ±2N of them — the planet-pass modulation of N sequentially phased
+    planets moves the ring mesh to multiples of N (seed 003 §4.1 dominant-sideband rule, e.g.
+    81 and 84 for Z_r = 83, N = 3); a local ring fault spreads further."""
+    st = next((s for s in comps.planetary if s.name == comp.stage), None)
+    if comp.kind != "ring" or st is None or st.n_planets < 2:
+        return frozenset()
+    z, npl = st.ring_teeth, st.n_planets
+    out: set[int] = set()
+    for h in range(1, n // (2 * z) + 1):
+        out.add(h * z)
+        c = npl * round(h * z / npl)
+        out.update(c + m * npl for m in range(-2, 3) if abs(c + m * npl - h * z) <= 2 * npl)
+    return frozenset(out)
 
 
 def _blocks(n_rev: int, n_blocks: int) -> tuple[int, int]:
@@ -252,7 +305,9 @@ class _Ctx:
             )
 
 
-def _own_angle_component(ctx: _Ctx, comp: Component, wheel_mode: bool) -> None:
+def _own_angle_component(
+    ctx: _Ctx, comp: Component, wheel_mode: bool, comps: Components | None = None
+) -> None:
     """TSA in the component's own angle, per block: gear indicators (shafts, sun/planet/ring
     without a ring sensor) or per-wheel sideband indicators (wheels)."""
     xs, spr = ctx.own(comp.abs_ratio)
@@ -277,7 +332,8 @@ def _own_angle_component(ctx: _Ctx, comp: Component, wheel_mode: bool) -> None:
                 ("SER", "sideband_kurtosis", "NB4"),
             )
         else:
-            vals, r = _gear_indicators(t, comp.mesh_orders, hist_res, hist_tsa)
+            extra = _planet_pass_orders(comp, comps, spr) if comps is not None else frozenset()
+            vals, r = _gear_indicators(t, comp.mesh_orders, hist_res, hist_tsa, extra)
             hist_res.append(r)
         hist_tsa.append(t)
         ctx.add(comp, vals, b)
@@ -512,7 +568,7 @@ def extract_features(
     for comp in components.items:
         if comp.kind == "bearing" or comp.name in handled:
             continue
-        _own_angle_component(ctx, comp, wheel_mode=comp.kind == "wheel")
+        _own_angle_component(ctx, comp, comp.kind == "wheel", components)
 
     markers = _markers(components, mean_rpm)
     table = pd.DataFrame(ctx.rows, columns=COLUMNS)
