@@ -251,3 +251,17 @@ def test_read_signal_refuses_nd_variables(tmp_path):
     with pytest.raises(InputError, match="dims"):
         read_signal(p, channel="q")
     assert read_signal(p, channel="b").x.size == 64
+
+
+def test_ring_sensor_faces_the_planet_at_its_position():
+    """Planet n sits at θ_c + ψ_n (model geometry): a ring sensor at α weights planet n by 1
+    when θ_c + ψ_n = α, by ½(1 + cos(N·Δ)) within ±π/N, and by 0 further away."""
+    from geardyn.sensors.channels import ring_sensor_windows
+
+    psi = np.radians([0.0, 120.0, 240.0])
+    alpha = np.radians(35.0)
+    w = ring_sensor_windows(alpha - psi, psi, alpha)
+    assert w == pytest.approx(np.eye(3), abs=1e-12)
+    d = np.radians(20.0)
+    w = ring_sensor_windows(np.array([alpha + d]), psi, alpha)[:, 0]
+    assert w == pytest.approx([0.5 * (1 + math.cos(3 * d)), 0.0, 0.0], abs=1e-12)

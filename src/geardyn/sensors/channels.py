@@ -125,12 +125,9 @@ def _force(ds: xr.Dataset, spec, ctx: SensorContext, where: str) -> tuple[np.nda
         ring = ctx.rings.get(stage) if stage else None
         if ring is None:
             raise InputError(f"{where}.location: 'ring' needs a planetary stage in the model")
-        from geardyn.sensors.planet_pass import planet_pass_windows
-
         tc = np.asarray(ds["angle"].sel(shaft=ring.carrier_shaft).values, float)
         tr = np.asarray(ds["angle"].sel(shaft=ring.ring_shaft).values, float)
-        w = planet_pass_windows(tc - tr, len(ring.planet_angles), ring.planet_angles,
-                                np.radians(spec.sensor_angle_deg))
+        w = ring_sensor_windows(tc - tr, ring.planet_angles, np.radians(spec.sensor_angle_deg))
         fr = np.asarray(ds["mesh_force"].sel(mesh=ring.ring_meshes).values, float)
         return np.sum(w.T * fr, axis=1), f"ring of stage '{stage}'"
     ref = ctx.bearings.get((spec.location, spec.direction))
@@ -141,6 +138,20 @@ def _force(ds: xr.Dataset, spec, ctx: SensorContext, where: str) -> tuple[np.nda
     var, sel = ref
     return np.asarray(ds[var].sel(**sel).values, float), (
         f"bearing '{spec.location}', {spec.direction}")
+
+
+def ring_sensor_windows(carrier_angle: np.ndarray, planet_angles: np.ndarray,
+                        sensor_angle: float) -> np.ndarray:
+    """Planet-pass weights (n_planets × samples) of a sensor on the ring at angle
+    ``sensor_angle`` [rad] of the frame: planet n sits at ``θ_c + ψ_n`` (the model's planet
+    positions, carrier angle relative to the ring) and is in view within ±π/N of the sensor,
+    weighted by the Hann lobe ``½(1 + cos(N·Δ))`` (seed 003 eqs 4.10-4.12, centred gate:
+    :func:`geardyn.sensors.planet_pass.planet_pass_windows` with ψ → −ψ and the sensor moved
+    back by π/N so the lobe peaks where the planet faces the sensor)."""
+    from geardyn.sensors.planet_pass import planet_pass_windows
+
+    psi = np.mod(-np.asarray(planet_angles, float), 2 * np.pi)
+    return planet_pass_windows(carrier_angle, psi.size, psi, sensor_angle - np.pi / psi.size)
 
 
 def _accelerometer_channel(ds: xr.Dataset, spec, t, rng, ctx: SensorContext,  # noqa: ANN001
