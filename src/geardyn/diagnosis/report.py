@@ -200,14 +200,19 @@ def _angle_deg(da: xr.DataArray) -> np.ndarray:
 
 
 def cwt_figure(component: str, tsa_da: xr.DataArray, max_order: float) -> Any:
-    """|CWT| (Morlet) of one revolution of a TSA: angle [deg] × order [events/rev]
-    (seed 004 ch. 9 localises a tooth fault this way)."""
+    """|CWT| (Morlet) of one revolution of a TSA: angle [deg] × order [events/rev] up to
+    ``max_order`` (seed 004 ch. 9 localises a tooth fault this way). The TSA is periodic: it
+    is first resampled (Fourier) to 8 samples per period of ``max_order`` and wrapped, so that
+    the transform costs little and has no edge effect."""
     import pywt
+    from scipy.signal import resample
 
     from geardyn.signal import cwt_morlet
 
     x = np.asarray(tsa_da.values, float)
-    n = x.size
+    n = int(min(x.size, max(256, 2 ** math.ceil(math.log2(8 * max_order)))))
+    if n < x.size:
+        x = resample(x, n)
     centre = pywt.central_frequency("morl")
     hi = min(max_order, n / 2.5)
     orders = np.geomspace(max(1.0, hi / 60.0), hi, 64)
