@@ -48,3 +48,41 @@ def test_output_dir_checked_before_any_work(tmp_path: Path, no_simulation) -> No
     res = runner.invoke(app, ["diagnose", CONFIG, "--out", str(blocker / "out")])
     assert res.exit_code == 2
     assert "cannot write to" in res.output
+
+
+SENSORS = """
+[[sensors]]
+name = "acc_ring"
+kind = "accelerometer"
+location = "ring"
+stage = "planetary"
+shaft = "sun"
+sample_rate_hz = 2000.0
+noise_rms = 1.0
+"""
+
+
+def test_diagnose_short_run_end_to_end(tmp_path: Path) -> None:
+    """Seed 004 reclaimer (sun crack) with a ring accelerometer, 3 s runs: exit 0, verdict
+    table printed, verdict.json with every component and its state, one report.html."""
+    import json
+
+    config = tmp_path / "reclaimer.toml"
+    config.write_text((EXAMPLES / "planetary_reclaimer.toml").read_text() + SENSORS)
+    out = tmp_path / "diag"
+    res = runner.invoke(app, ["diagnose", str(config), "--out", str(out), "--t-end", "3",
+                              "--skip", "0.5", "--seeds", "0,1", "--blocks", "2"])
+    assert res.exit_code == 0, res.output
+    text = " ".join(res.output.split())
+    assert "planetary.sun" in text and "worst indicator" in text
+    assert f"report {out / 'report.html'}" in text
+    d = json.loads((out / "verdict.json").read_text())
+    assert d["baseline"]["seeds"] == [0, 1] and d["record"]["seed"] == 100
+    assert d["channels"] == ["acc_ring"]
+    assert [f["component"] for f in d["expected_faults"]] == ["planetary.sun"]
+    assert "planetary.sun" in d["components"]
+    for c in d["components"].values():
+        assert c["state"] in ("healthy", "alarm", "unknown")
+        assert c["state"] != "healthy" or c["indicators"]
+    assert sorted(p.name for p in out.iterdir()) == ["report.html", "verdict.json"]
+    assert (out / "report.html").read_text().count("data:image/png;base64,") >= 4
