@@ -214,6 +214,40 @@ def test_planet_window_tsa_localises_the_faulty_planet(seed004):
     assert not ff.notes
 
 
+def _envelope_peak_deg(da, teeth=None) -> float:
+    """Angle [deg] of the maximum of the smoothed envelope of a TSA (mean removed), or of its
+    difference signal if ``teeth`` are given."""
+    from scipy.ndimage import uniform_filter1d
+    from scipy.signal import hilbert
+
+    from geardyn.signal import difference_signal
+
+    v = da.values - da.values.mean()
+    if teeth is not None:
+        v = difference_signal(v, teeth)
+    e = uniform_filter1d(np.abs(hilbert(v)), max(1, v.size // 36), mode="wrap")
+    return float(da["angle"].values[int(np.argmax(e))])
+
+
+def test_tsa_angles_are_own_angles_whatever_the_record_start(comps, seed004):
+    """The TSA's angle coordinate is the component's own angle: the 42-tooth wheel's fault
+    at intermediate angle 180° (|ratio|·θ_in, counter-rotating shaft) and planet 2's at
+    planet-frame angle (1 + π) rad = 237.3° (mesh count Z_r·θ_c/2π mod Z_p) are found there
+    (envelope of the shaft's difference signal / of the planet TSA; measured 181.4° and
+    235.4°; ±1 tooth pitch: 8.6° and 11.3°), also when the record starts
+    at an arbitrary angle (samples dropped)."""
+    x, t, th = transmission_signal(True, False, 3)
+    for cut in (0, 1234):
+        f = extract_features(x[cut:], t[cut:], th[cut:], comps)
+        peak = _envelope_peak_deg(f.tsa["intermediate"], (53, 42))
+        assert peak == pytest.approx(180.0, abs=8.6)
+    x, t, th = ring_signal(3, planet_fault=1)
+    p2 = seed004.of_kind("planet")[1].name
+    for cut in (0, 777):
+        f = extract_features(x[cut:], t[cut:], th[cut:], seed004, ring_stage="planetary")
+        assert _envelope_peak_deg(f.tsa[p2]) == pytest.approx(np.degrees(1 + np.pi), abs=11.3)
+
+
 def test_ring_fault_seen_in_the_carrier_angle_tsa(seed004):
     """Ring fault at 60°: measured ring FM4 3.0 healthy → 5.0, planets and sun 2.8–2.9 (the
     planet-pass sidebands k·Z_r → multiples of N are counted as regular meshing, so the

@@ -141,27 +141,34 @@ def _reference_signal(x: np.ndarray, time: np.ndarray, angle: np.ndarray, spr: i
     return AngleSignal(np.interp(grid, angle, x), spr, float(grid[0]), np.interp(grid, angle, time))
 
 
-def _aligned(sig: AngleSignal) -> np.ndarray:
-    """Samples from the first one at a whole revolution (angle ≡ 0 mod 2π) to the last whole
-    revolution."""
+def _phase_steps(sig: AngleSignal) -> int:
+    """Own-angle step index of the first sample (``angle0 / (2π/spr)``, an integer)."""
+    return int(round(sig.angle0 / (TWO_PI / sig.samples_per_rev)))
+
+
+def _whole(sig: AngleSignal) -> np.ndarray:
+    """The whole revolutions of an angle signal from its first sample (for spectra that need
+    no phase reference: order and envelope spectra)."""
     spr = sig.samples_per_rev
-    k0 = int(round(sig.angle0 / (TWO_PI / spr)))
-    start = (-k0) % spr
-    n = (sig.x.size - start) // spr
-    return sig.x[start : start + n * spr]
+    return sig.x[: (sig.x.size // spr) * spr]
 
 
-def _own_signal(ref: AngleSignal, abs_ratio: float, multiple: int = 2) -> tuple[np.ndarray, int]:
+def _own_signal(
+    ref: AngleSignal, abs_ratio: float, multiple: int = 2
+) -> tuple[np.ndarray, int, int]:
     """Resample a reference-angle signal to ``abs_ratio·θ_ref`` with an integer number of
     samples per own revolution (a multiple of ``multiple``, same angular density as the
-    reference); returns whole own revolutions aligned on own angle 0."""
+    reference). Returns (whole own revolutions from the first sample, samples per
+    revolution, own-angle step of the first sample: sample ``i`` is at own angle
+    ``(k0 + i)·2π/spr``, so a TSA rolled by ``k0`` starts at own angle 0)."""
     spr_ref = ref.samples_per_rev
     spr = max(multiple, int(math.ceil(spr_ref / abs_ratio / multiple)) * multiple)
     spr = max(spr, 8 * multiple if multiple < 8 else multiple)
     if abs(abs_ratio - 1.0) < 1e-12 and spr == spr_ref:
-        return _aligned(ref), spr
-    own = resample_to_angle(ref.x, float(spr_ref), abs_ratio * ref.angle, samples_per_rev=spr)
-    return _aligned(own), spr
+        own = ref
+    else:
+        own = resample_to_angle(ref.x, float(spr_ref), abs_ratio * ref.angle, samples_per_rev=spr)
+    return _whole(own), spr, _phase_steps(own)
 
 
 # ---------------------------------------------------------------------------- indicators
@@ -283,9 +290,9 @@ class _Ctx:
     rows: list[dict[str, Any]]
     tsas: dict[str, xr.DataArray]
     notes: list[str]
-    cache: dict[tuple[float, int], tuple[np.ndarray, int]] = field(default_factory=dict)
+    cache: dict[tuple[float, int], tuple[np.ndarray, int, int]] = field(default_factory=dict)
 
-    def own(self, abs_ratio: float, multiple: int = 2) -> tuple[np.ndarray, int]:
+    def own(self, abs_ratio: float, multiple: int = 2) -> tuple[np.ndarray, int, int]:
         key = (round(abs_ratio, 12), multiple)
         if key not in self.cache:
             self.cache[key] = _own_signal(self.ref, abs_ratio, multiple)
@@ -310,7 +317,7 @@ def _own_angle_component(
 ) -> None:
     """TSA in the component's own angle, per block: gear indicators (shafts, sun/planet/ring
     without a ring sensor) or per-wheel sideband indicators (wheels)."""
-    xs, spr = ctx.own(comp.abs_ratio)
+    xs, spr, k0 = ctx.own(comp.abs_ratio)
     n_rev = xs.size // spr
     if n_rev < 1:
         ctx.notes.append(
@@ -322,7 +329,7 @@ def _own_angle_component(
     hist_res: list[np.ndarray] = []
     hist_tsa: list[np.ndarray] = []
     for b in range(nb):
-        t = tsa(xs[b * rpb * spr : (b + 1) * rpb * spr], spr)
+        t = np.roll(tsa(xs[b * rpb * spr : (b + 1) * rpb * spr], spr), k0)
         if wheel_mode:
             teeth = int(comp.teeth or comp.mesh_orders[0])
             vals = _safe_dict(
@@ -338,7 +345,7 @@ def _own_angle_component(
         hist_tsa.append(t)
         ctx.add(comp, vals, b)
     if comp.name not in ctx.tsas:
-        whole = tsa(xs[: n_rev * spr], spr)
+        whole = np.roll(tsa(xs[: n_rev * spr], spr), k0)
         ctx.tsas[comp.name] = _tsa_array(whole, comp, ctx.units, n_rev, "own-angle TSA")
 
 
@@ -362,7 +369,7 @@ def _planetary_components(
         return set()
     zr, n = st.ring_teeth, st.n_planets
     stepped = st.planet_sun_teeth != st.planet_ring_teeth
-    xs, spc = ctx.own(abs(st.ring_ratio), zr)
+    xs, spc, k0 = ctx.own(abs(st.ring_ratio), zr)
     n_rev = xs.size // spc
     if n_rev < 1:
         ctx.notes.append(f"stage {st.name}: less than one carrier revolution; left out")
@@ -376,12 +383,18 @@ def _planetary_components(
     members = [c for c in comps.items if c.stage == st.name and c.kind in ("sun", "planet")]
     nb, rpb = _blocks(n_rev, ctx.n_blocks)
 
-    def windowed(seg: np.ndarray, teeth: int, planet: int) -> np.ndarray | None:
+    def windowed(seg: np.ndarray, teeth: int, planet: int, start: int) -> np.ndarray | None:
+        """Planet-window TSA of ``seg`` (whose first sample is ``start`` samples after the
+        first of ``xs``): the sensor angle is shifted to the segment's own-angle origin and
+        the result rolled so that index 0 is mesh count 0 (carrier angle 0)."""
+        offset = k0 + start  # own-angle step of the segment's first sample
+        sensor = s0 - TWO_PI * (offset % spc) / spc
         for wt in dict.fromkeys((2, max(2, zr // (2 * n)), max(2, zr // n))):
             try:
-                return planetary_tsa(seg, spc, zr, teeth, n, planet, psi, s0, wt)
+                t = planetary_tsa(seg, spc, zr, teeth, n, planet, psi, sensor, wt)
             except InputError:
                 continue
+            return np.roll(t, offset % t.size)
         return None
 
     for comp in members:
@@ -396,7 +409,7 @@ def _planetary_components(
             seg = xs[b * rpb * spc : (b + 1) * rpb * spc]
             per_planet = []
             for p in planets:
-                t = windowed(seg, teeth, p)
+                t = windowed(seg, teeth, p, b * rpb * spc)
                 if t is None:
                     ok = False
                     break
@@ -415,7 +428,7 @@ def _planetary_components(
                 "cover every tooth; own-angle TSA used"
             )
             continue
-        whole = windowed(xs[: n_rev * spc], teeth, planets[0])
+        whole = windowed(xs[: n_rev * spc], teeth, planets[0], 0)
         if whole is not None:
             ctx.tsas[comp.name] = _tsa_array(
                 whole, comp, ctx.units, n_rev, f"planet-window TSA (planet {planets[0]})"
@@ -443,7 +456,7 @@ def _bearing_features(
     ctx: _Ctx, comps: Components, band: tuple[float, float] | None
 ) -> xr.DataArray | None:
     bearings = comps.bearings
-    x = _aligned(ctx.ref)
+    x = _whole(ctx.ref)
     spr = ctx.ref.samples_per_rev
     n_rev = x.size // spr
     if n_rev < 1:
@@ -535,9 +548,9 @@ def extract_features(
     mean_rpm = 60.0 * revs / duration if duration > 0 else math.nan
     ctx = _Ctx(ref, nb, channel, units, [], {}, [])
 
-    whole_ref = _aligned(ref)
+    whole_ref = _whole(ref)
     spec = None
-    if whole_ref.size >= 4 * spr or whole_ref.size >= spr:
+    if whole_ref.size >= spr:
         spec = order_spectrum(whole_ref, spr).rename("amplitude")
         spec.attrs["units"] = units
     # envelope band
