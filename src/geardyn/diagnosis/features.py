@@ -7,7 +7,9 @@ per block of whole revolutions:
 * **shafts** (own angle ``|r|·θ_ref``, sign handled): TSA (seed 003 eq 1.25), FM0, FM4, NA4
   (earlier blocks as history), NB4, energy ratio ER, RMS and kurtosis of the difference signal
   (Zakrajsek, Townsend & Decker 1993) — the residual/difference signals remove the mesh
-  harmonics of **every** fixed-axis wheel on the shaft;
+  harmonics of **every** fixed-axis wheel on the shaft; ER and the difference RMS use unbiased
+  synchronous powers (Braun 1975) so that the non-synchronous power a short average keeps
+  (``1/N``: another component's fault, noise) does not raise them;
 * **wheels** sharing a shaft: indicators on the wheel's own unambiguous mesh sidebands
   (:func:`geardyn.signal.indicators.wheel_indicators`: SER after Hanna et al. 2011, sideband
   kurtosis, NB4 restricted to the wheel);
@@ -27,8 +29,9 @@ Resampling: the channel is first resampled to a uniform angle of the reference
 (:func:`geardyn.signal.resample_to_angle` for uniformly time-sampled channels, linear
 interpolation in angle for angle-sampled ones such as encoder IAS), then, per own-angle
 ratio, to an integer number of samples per own revolution aligned on own angle 0.
-A component with fewer whole revolutions than ``n_blocks`` gets one block per revolution; one
-with less than one revolution is left out (listed in ``Features.notes``).
+Blocks hold at least :data:`MIN_REVS_PER_BLOCK` own revolutions: a component with fewer than
+``4·n_blocks`` whole revolutions gets fewer blocks (one block of all its revolutions if it has
+fewer than 8); one with less than one revolution is left out (listed in ``Features.notes``).
 """
 
 from __future__ import annotations
@@ -55,6 +58,8 @@ from geardyn.signal.indicators import (
     na4,
     nb4,
     rms,
+    synchronous_energy_ratio,
+    synchronous_power,
     wheel_indicators,
 )
 from geardyn.signal.kurtogram import kurtogram as stft_kurtogram
@@ -65,6 +70,8 @@ from geardyn.signal.tsa import difference_signal, keep_orders, planetary_tsa, re
 COLUMNS = ["component", "kind", "indicator", "value", "block", "channel"]
 #: Sidebands per side used to localise a wheel on a shared shaft.
 WHEEL_SIDEBANDS = 3
+#: Fewest own revolutions averaged per block (TSA rejection of non-synchronous content ∝ 1/√N).
+MIN_REVS_PER_BLOCK = 4
 #: Bearing line harmonics.
 BEARING_HARMONICS = (1, 2, 3)
 TWO_PI = 2.0 * np.pi
@@ -258,8 +265,10 @@ def _planet_pass_orders(comp: Component, comps: Components, n: int) -> frozenset
 
 
 def _blocks(n_rev: int, n_blocks: int) -> tuple[int, int]:
-    """(blocks, revolutions per block): ``n_blocks`` if possible, else one per revolution."""
-    nb = min(n_blocks, n_rev)
+    """(blocks, revolutions per block): ``n_blocks`` blocks if each gets at least
+    :data:`MIN_REVS_PER_BLOCK` revolutions, else fewer (at least one block of every whole
+    revolution): a TSA of one revolution rejects nothing that is not synchronous."""
+    nb = max(1, min(n_blocks, n_rev // MIN_REVS_PER_BLOCK))
     return nb, n_rev // nb
 
 
@@ -329,7 +338,8 @@ def _own_angle_component(
     hist_res: list[np.ndarray] = []
     hist_tsa: list[np.ndarray] = []
     for b in range(nb):
-        t = np.roll(tsa(xs[b * rpb * spr : (b + 1) * rpb * spr], spr), k0)
+        seg = xs[b * rpb * spr : (b + 1) * rpb * spr]
+        t = np.roll(tsa(seg, spr), k0)
         if wheel_mode:
             teeth = int(comp.teeth or comp.mesh_orders[0])
             vals = _safe_dict(
@@ -341,12 +351,32 @@ def _own_angle_component(
         else:
             extra = _planet_pass_orders(comp, comps, spr) if comps is not None else frozenset()
             vals, r = _gear_indicators(t, comp.mesh_orders, hist_res, hist_tsa, extra)
+            vals.update(_synchronous_energies(seg, spr, comp.mesh_orders, extra))
             hist_res.append(r)
         hist_tsa.append(t)
         ctx.add(comp, vals, b)
     if comp.name not in ctx.tsas:
         whole = np.roll(tsa(xs[: n_rev * spr], spr), k0)
         ctx.tsas[comp.name] = _tsa_array(whole, comp, ctx.units, n_rev, "own-angle TSA")
+
+
+def _synchronous_energies(
+    seg: np.ndarray, spr: int, teeth: tuple[int, ...], regular: frozenset[int]
+) -> dict[str, float]:
+    """ER and RMS of the difference signal from unbiased synchronous powers (Braun 1975;
+    :func:`geardyn.signal.indicators.synchronous_energy_ratio`): with few revolutions per
+    block the TSA keeps ``1/N`` of the non-synchronous power (other components' faults,
+    noise), which would otherwise raise ER and the difference RMS of every component."""
+    if seg.size < 2 * spr:
+        return {}
+    if not teeth and not regular:
+        p = synchronous_power(seg, spr, clip=False)
+        return {"diff_rms": float(np.sqrt(0.5 * max(float(p[2:].sum()), 0.0)))}
+    try:
+        er, drms = synchronous_energy_ratio(seg, spr, teeth, sorted(regular))
+    except InputError:
+        return {}
+    return {"ER": er, "diff_rms": drms}
 
 
 def _safe_dict(fn: Callable[[], dict[str, float]], keys: tuple[str, ...]) -> dict[str, float]:

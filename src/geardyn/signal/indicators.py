@@ -179,6 +179,61 @@ def energy_ratio(
     return rms(d) / den
 
 
+def synchronous_power(x: np.ndarray, samples_per_rev: int, clip: bool = True) -> np.ndarray:
+    """Unbiased synchronous power per order of an angle-domain record of N ≥ 2 whole
+    revolutions: ``|X̄(o)|² − V(o)/N``, with ``X̄`` the spectrum of the TSA and
+    ``V(o) = Σ_n |X_n(o) − X̄(o)|²/(N − 1)`` the variance of the per-revolution spectra (the
+    non-synchronous part, which the TSA only attenuates to ``V/N``; Braun 1975, "The
+    extraction of periodic waveforms by time domain averaging", Acustica 32). Clipped at 0
+    unless ``clip`` is False (sums over many orders stay unbiased only unclipped);
+    single-sided amplitude² scale (a sine of amplitude A reads A²)."""
+    a = array1d("x", x, 4)
+    spr = positive_int("samples_per_rev", samples_per_rev, "samples per revolution", minimum=4)
+    n = a.size // spr
+    if n < 2:
+        raise InputError(f"x: needs at least 2 whole revolutions of {spr} samples, got {n}")
+    spec = np.fft.rfft(a[: n * spr].reshape(n, spr), axis=1) * (2.0 / spr)
+    mean = spec.mean(axis=0)
+    var = np.sum(np.abs(spec - mean) ** 2, axis=0) / (n - 1)
+    p = np.abs(mean) ** 2 - var / n
+    return np.maximum(p, 0.0) if clip else p
+
+
+def synchronous_energy_ratio(
+    x: np.ndarray,
+    samples_per_rev: int,
+    teeth: int | Sequence[int] = (),
+    regular: Sequence[int] = (),
+    shaft_harmonics: int = 1,
+    sidebands: int = 1,
+) -> tuple[float, float]:
+    """Energy ratio ER = RMS(difference)/RMS(regular) (Zakrajsek et al. 1993) from unbiased
+    synchronous powers (:func:`synchronous_power`), so that non-synchronous content left in a
+    short average does not inflate it. Regular orders: mesh harmonics of ``teeth`` plus
+    ``regular``; the difference band leaves out orders 0…``shaft_harmonics``, the regular
+    orders and their ±1…``sidebands`` sidebands; each sum is unbiased (unclipped orders) and
+    then clipped at 0. Returns ``(ER, rms of the difference)``."""
+    p = synchronous_power(x, samples_per_rev, clip=False)
+    spr = int(samples_per_rev)
+    reg = set(int(o) for o in regular)
+    if (isinstance(teeth, (int, np.integer)) and teeth) or (
+        not isinstance(teeth, (int, np.integer)) and len(teeth)
+    ):
+        reg |= set(_mesh_orders(spr, teeth, None))
+    reg = {o for o in reg if 0 < o < p.size}
+    if not reg:
+        raise InputError("teeth/regular: no regular order below Nyquist; ER undefined")
+    out = {0, *range(1, shaft_harmonics + 1), *reg}
+    out |= {o + j for o in reg for j in range(-sidebands, sidebands + 1)}
+    keep = np.ones(p.size, dtype=bool)
+    keep[[o for o in out if 0 <= o < p.size]] = False
+    e_reg = max(float(p[sorted(reg)].sum()), 0.0)
+    e_diff = max(float(p[keep].sum()), 0.0)
+    if e_reg == 0:
+        raise InputError("x: no synchronous power at the regular orders; ER undefined")
+    return float(np.sqrt(e_diff / e_reg)), float(np.sqrt(0.5 * e_diff))
+
+
 def wheel_sideband_orders(
     n: int,
     teeth: int,
