@@ -17,9 +17,11 @@ per block of whole revolutions:
   McFadden's window technique (:func:`geardyn.signal.planetary_tsa`; per planet, and for the
   sun averaged over the planet windows); otherwise the TSA in the component's own angle
   relative to the carrier (seed 004 §8.2 averages per component revolution); same indicators
-  as a shaft with the component's tooth count;
-* **bearings**: squared-envelope spectrum in orders of the reference (Antoni 2007 band choice
-  from the STFT kurtogram, :mod:`geardyn.signal.kurtogram`, unless ``envelope_band`` is given):
+  as a shaft with the component's tooth count; for the ring the regular meshing also holds
+  the planet-pass orders (multiples of N next to ``h·Z_r``, seed 003 §4.1);
+* **bearings**: squared-envelope spectrum in orders of the reference (band of maximum
+  spectral kurtosis, Antoni 2007, from the STFT kurtogram :mod:`geardyn.signal.kurtogram`,
+  unless ``envelope_band`` is given, below the resampling's anti-aliasing limit):
   for each line BPFO/BPFI/BSF/FTF, the mean over harmonics 1–3 of the peak within
   ``±max(2/R, 0.02·order)`` (R revolutions per block; 2 % allows for rolling-element slip) over
   the median level in ``±max(20/R, 0.2·order)`` (Randall & Antoni 2011, "Rolling element
@@ -28,7 +30,8 @@ per block of whole revolutions:
 Resampling: the channel is first resampled to a uniform angle of the reference
 (:func:`geardyn.signal.resample_to_angle` for uniformly time-sampled channels, linear
 interpolation in angle for angle-sampled ones such as encoder IAS), then, per own-angle
-ratio, to an integer number of samples per own revolution aligned on own angle 0.
+ratio, to an integer number of samples per own revolution; TSAs are rolled so that their
+index 0 is own angle 0 (the reference angle's origin times the ratio).
 Blocks hold at least :data:`MIN_REVS_PER_BLOCK` own revolutions: a component with fewer than
 ``4·n_blocks`` whole revolutions gets fewer blocks (one block of all its revolutions if it has
 fewer than 8); one with less than one revolution is left out (listed in ``Features.notes``).
