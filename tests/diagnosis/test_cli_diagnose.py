@@ -86,3 +86,33 @@ def test_diagnose_short_run_end_to_end(tmp_path: Path) -> None:
         assert c["state"] != "healthy" or c["indicators"]
     assert sorted(p.name for p in out.iterdir()) == ["report.html", "verdict.json"]
     assert (out / "report.html").read_text().count("data:image/png;base64,") >= 4
+
+
+def test_diagnose_result_files(tmp_path: Path) -> None:
+    """--baseline/--record NetCDF result files (written by geardyn.results.to_netcdf): verdict
+    without simulation; the record's faults are unknown (expected_faults null)."""
+    import json
+
+    import geardyn
+    from geardyn.diagnosis.faults import healthy_variant
+    from geardyn.results import to_netcdf
+    from geardyn.run import run_simulation
+
+    config = tmp_path / "reclaimer.toml"
+    config.write_text((EXAMPLES / "planetary_reclaimer.toml").read_text() + SENSORS)
+    cfg = geardyn.load_config(config)
+    files = []
+    for name, c, seed in (("h0", healthy_variant(cfg), 0), ("h1", healthy_variant(cfg), 1),
+                          ("rec", cfg, 100)):
+        files.append(tmp_path / f"{name}.nc")
+        to_netcdf(run_simulation(c, seed=seed, t_end_s=3.0), files[-1])
+    out = tmp_path / "diag"
+    res = runner.invoke(app, ["diagnose", str(config), "--out", str(out), "--baseline",
+                              str(files[0]), "--baseline", str(files[1]), "--record",
+                              str(files[2]), "--skip", "0.5", "--blocks", "2"])
+    assert res.exit_code == 0, res.output
+    d = json.loads((out / "verdict.json").read_text())
+    assert d["baseline"]["files"] == [str(files[0]), str(files[1])]
+    assert d["record"] == {"file": str(files[2])}
+    assert d["expected_faults"] is None and "localised" not in d["summary"]
+    assert (out / "report.html").is_file()
