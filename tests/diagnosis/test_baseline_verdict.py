@@ -108,6 +108,18 @@ def test_verdict_median_over_blocks_alarms_and_unknown() -> None:
     assert s["unexpected"] == ["sun"] and not s["localised"]
 
 
+def test_component_not_analysed_is_unknown_with_the_reason() -> None:
+    base = table({("sun", "sun", "FM4"): [3.0, 3.1, 2.9]})
+    rule = ThresholdRule()
+    v = judge(table({("sun", "sun", "FM4"): [3.0]}), thresholds(base, rule), rule,
+              components=[("carrier", "shaft"), ("sun", "sun")],
+              notes=["carrier: less than one revolution in the record; left out"])
+    assert list(v.components) == ["carrier", "sun"]
+    assert v.components["carrier"].state == "unknown"
+    assert v.components["carrier"].kind == "shaft"
+    assert v.to_dict()["notes"] == ["carrier: less than one revolution in the record; left out"]
+
+
 def test_verdict_json_schema(tmp_path) -> None:
     base = table({("sun", "sun", "FM4"): [3.0, 3.1, 2.9], ("sun", "sun", "NA4"): [3.0] * 3})
     rule = ThresholdRule(k=2.5, sigma_floor=0.1)

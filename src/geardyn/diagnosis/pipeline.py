@@ -140,10 +140,15 @@ def _finish(
     expected: list[ConfiguredFault] | None,
 ) -> Verdict:
     """Thresholds, verdict, verdict.json and report.html from the features."""
+    from geardyn.diagnosis.components import machine_components
+
     rule = ThresholdRule(k=opts.threshold_k, sigma_floor=opts.sigma_floor)
     th = thresholds([f.table for f in baseline], rule)
+    items = machine_components(cfg, record.reference).items if record.reference else []
     verdict = judge(record.table, th, rule, machine=cfg.name, baseline=info[0],
-                    record_info=info[1], expected_faults=expected)
+                    record_info=info[1], expected_faults=expected,
+                    components=[(c.name, c.kind) for c in items],
+                    notes=getattr(record, "notes", []))
     verdict.write(out)
     shaft = str(record_ds[f"sensors.{channel}"].attrs.get("shaft", "")) or None
     freqs = operating_frequencies(cfg, record_ds, opts.reference or shaft, opts.skip_s)

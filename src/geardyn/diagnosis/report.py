@@ -299,8 +299,10 @@ def verdict_section(verdict: Verdict) -> str:
         line += "alarms match the configured faults." if s["localised"] else (
             f"missed: {', '.join(s['missed']) or 'none'}, "
             f"unexpected: {', '.join(s['unexpected']) or 'none'}.")
+    notes = "".join(f"<li>{html.escape(n)}</li>" for n in verdict.notes)
     return _section("Verdict", f"<p><b>{html.escape(line)}</b></p>", table,
-                    _note(verdict.rule.describe()))
+                    _note(verdict.rule.describe()),
+                    f"<p>Not judged:</p><ul>{notes}</ul>" if notes else "")
 
 
 def machine_section(verdict: Verdict) -> str:

@@ -83,6 +83,8 @@ class Verdict:
     record: dict[str, Any] = field(default_factory=dict)
     expected_faults: list[ConfiguredFault] | None = None
     """Faults configured in the record (None: not known, e.g. a measured record)."""
+    notes: list[str] = field(default_factory=list)
+    """Why components or indicators could not be judged (e.g. too few revolutions)."""
 
     @property
     def alarms(self) -> list[str]:
@@ -151,6 +153,7 @@ class Verdict:
             "expected_faults": (None if self.expected_faults is None
                                 else [asdict(f) for f in self.expected_faults]),
             "components": comps,
+            "notes": list(self.notes),
             "summary": self.summary(),
         }
         return _clean(out)
@@ -206,17 +209,26 @@ def judge(
     baseline: dict[str, Any] | None = None,
     record_info: dict[str, Any] | None = None,
     expected_faults: Sequence[ConfiguredFault] | None = None,
+    components: Sequence[tuple[str, str]] = (),
+    notes: Sequence[str] = (),
 ) -> Verdict:
     """Verdict of a record's indicator table against thresholds from
-    :func:`geardyn.diagnosis.baseline.thresholds` (computed with the same ``rule``)."""
+    :func:`geardyn.diagnosis.baseline.thresholds` (computed with the same ``rule``).
+
+    ``components``: ``(name, kind)`` of every component of the machine, so that one missing
+    from both tables (not analysed) is reported ``unknown`` rather than left out; ``notes``
+    say why (kept in the verdict)."""
     values = record_values(record)
     th = thresholds.set_index(KEYS)
     channels = sorted(set(values["channel"]) | set(thresholds["channel"]))
     multi = len(channels) > 1
     comps: dict[str, ComponentVerdict] = {}
-    order = list(dict.fromkeys([*thresholds["component"], *check_table(record)["component"]]))
-    kinds = dict(zip(thresholds["component"], thresholds["kind"], strict=False))
-    kinds.update(dict(zip(record["component"], record["kind"], strict=False)))
+    table = check_table(record)
+    order = list(dict.fromkeys([*(c for c, _ in components), *thresholds["component"],
+                                *table["component"]]))
+    kinds = dict(components)
+    kinds.update(dict(zip(thresholds["component"], thresholds["kind"], strict=False)))
+    kinds.update(dict(zip(table["component"], table["kind"], strict=False)))
     for name in order:
         comps[name] = ComponentVerdict(str(name), str(kinds[name]), "unknown")
     for _, r in values.iterrows():
@@ -244,6 +256,7 @@ def judge(
         machine=machine, channels=channels, rule=rule, components=comps,
         baseline=dict(baseline or {}), record=dict(record_info or {}),
         expected_faults=None if expected_faults is None else list(expected_faults),
+        notes=list(notes),
     )
 
 
