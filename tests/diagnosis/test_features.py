@@ -84,7 +84,8 @@ def test_wheel_fault_on_a_shared_counter_rotating_shaft(comps):
     wheel. Median over 4 blocks, measured over seeds 2, 3, 7, 8: z42 SER 0.082–0.085 healthy →
     0.21–0.22 faulty (×2.5), sideband kurtosis 2.4–2.6 → 4.9–5.1 (×1.9); z53 SER 0.033–0.039 →
     0.040–0.046 (+15 %: the tail of the 42 wheel's sideband family, σ ≈ 4 orders, reaches
-    53 − 3), sideband kurtosis 2.6–3.1 both; shaft FM4 2.9–3.0 → 7.6–7.9. Asserted: z42 SER
+    53 − 3), sideband kurtosis 2.6–3.1 both; shaft FM4 2.9–3.1 → 5.9–6.2 (combination tones
+    a·53 + b·42, |a| + |b| ≤ 12, counted as regular meshing). Asserted: z42 SER
     ≥ 2× and kurtosis ≥ 1.6× the healthy mean (3 seeds, as a baseline would); z53 within
     30 %; z42's relative rise ≥ 4× z53's."""
     base = [extract_features(*transmission_signal(False, False, s), comps) for s in (2, 7, 8)]
@@ -106,7 +107,7 @@ def test_wheel_fault_on_a_shared_counter_rotating_shaft(comps):
         assert rise("intermediate/z53", ind) == pytest.approx(1.0, abs=0.3)
         assert rise("intermediate/z42", ind) - 1 >= 4 * abs(rise("intermediate/z53", ind) - 1)
     assert val(healthy, "intermediate", "FM4") < 3.6
-    assert val(faulty, "intermediate", "FM4") > 6.0
+    assert val(faulty, "intermediate", "FM4") > 5.0
     # the input shaft (other shaft) does not see it in its TSA
     assert val(faulty, "input", "FM4") < 3.6
 
@@ -306,8 +307,8 @@ def _result(x, t, theta, with_tacho: bool):
 def test_features_from_result_with_and_without_tacho():
     """Both reference sources (tacho on the counter-rotating intermediate shaft, divided by
     its ratio; the result's input angle) give the same indicators on the faulty-wheel signal:
-    measured intermediate FM4 7.67 (result angle) and 7.37 (tacho, 0.3 s skipped; the tacho
-    also crops the record to its pulse span, so the blocks differ); asserted within 10 %.
+    measured intermediate FM4 6.23 (result angle) and 6.00 (tacho, 0.3 s skipped; the
+    tacho also crops the record to its pulse span, so the blocks differ); asserted within 10 %.
     skip_s drops 0.3 s ≈ 5 input revolutions."""
     from geardyn.diagnosis.features import features_from_result
 
@@ -318,7 +319,7 @@ def test_features_from_result_with_and_without_tacho():
     assert a.channel == "acc" and a.units == "m/s^2" and a.reference == "input"
     fa = float(np.median(a.values("intermediate", "FM4")))
     fb = float(np.median(b.values("intermediate", "FM4")))
-    assert fa > 6.0
+    assert fa > 5.0
     assert fb == pytest.approx(fa, rel=0.1)
     assert b.revolutions < a.revolutions - 0.3 * F0 * 0.9
     with pytest.raises(InputError, match="channel: 'tacho' holds pulse times"):

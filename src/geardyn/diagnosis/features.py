@@ -10,9 +10,12 @@ per block of whole revolutions:
   harmonics of **every** fixed-axis wheel on the shaft; ER and the difference RMS use unbiased
   synchronous powers (Braun 1975) so that the non-synchronous power a short average keeps
   (``1/N``: another component's fault, noise) does not raise them;
+  a shaft with several wheels also counts the combination tones ``a·Z_i + b·Z_j``
+  (``|a| + |b| ≤`` :data:`COMBINATION_ORDER`) as regular meshing;
 * **wheels** sharing a shaft: indicators on the wheel's own unambiguous mesh sidebands
   (:func:`geardyn.signal.indicators.wheel_indicators`: SER after Hanna et al. 2011, sideband
-  kurtosis, NB4 restricted to the wheel);
+  kurtosis, NB4 restricted to the wheel; combination tones are not left out of the sidebands,
+  which would cost most of the sensitivity — the healthy baseline carries them);
 * **sun, planets, ring**: with a ring accelerometer on a fixed ring, planet-separated TSA by
   McFadden's window technique (:func:`geardyn.signal.planetary_tsa`; per planet, and for the
   sun averaged over the planet windows); otherwise the TSA in the component's own angle
@@ -75,6 +78,8 @@ COLUMNS = ["component", "kind", "indicator", "value", "block", "channel"]
 WHEEL_SIDEBANDS = 3
 #: Fewest own revolutions averaged per block (TSA rejection of non-synchronous content ∝ 1/√N).
 MIN_REVS_PER_BLOCK = 4
+#: Largest |a| + |b| of the combination tones a·Z_i + b·Z_j counted as regular meshing.
+COMBINATION_ORDER = 12
 #: Bearing line harmonics.
 BEARING_HARMONICS = (1, 2, 3)
 TWO_PI = 2.0 * np.pi
@@ -196,12 +201,15 @@ def _gear_indicators(
     hist_res: list[np.ndarray],
     hist_tsa: list[np.ndarray],
     regular: frozenset[int] = frozenset(),
+    regular_sidebands: bool = True,
 ) -> tuple[dict[str, float], np.ndarray]:
     """Shaft/gear TSA indicators of one block (Zakrajsek, Townsend & Decker 1993); returns the
     indicators and the residual (history for NA4 of later blocks). ``regular``: orders counted
-    as regular meshing besides the mesh harmonics (the planet-pass sidebands of a ring)."""
+    as regular meshing besides the mesh harmonics (the planet-pass orders of a ring, the
+    combination tones of a shaft with several meshes), with their ±1 sidebands removed from
+    the difference signal if ``regular_sidebands``."""
     if regular:
-        return _gear_indicators_orders(t, teeth, hist_res, hist_tsa, regular)
+        return _gear_indicators_orders(t, teeth, hist_res, hist_tsa, regular, regular_sidebands)
     if teeth:
         d = difference_signal(t, teeth)
         r = residual_signal(t, teeth)
@@ -227,13 +235,16 @@ def _gear_indicators_orders(
     hist_res: list[np.ndarray],
     hist_tsa: list[np.ndarray],
     regular: frozenset[int],
+    regular_sidebands: bool = True,
 ) -> tuple[dict[str, float], np.ndarray]:
-    """As :func:`_gear_indicators` with an explicit set of regular orders (same definitions,
-    Zakrajsek et al. 1993: residual = TSA − regular − shaft order 1; difference = residual −
-    first-order sidebands of the regular orders)."""
+    """As :func:`_gear_indicators` with extra regular orders (same definitions, Zakrajsek et
+    al. 1993: residual = TSA − regular − shaft order 1; difference = residual − first-order
+    sidebands of the mesh harmonics, and of the extra orders if ``regular_sidebands``)."""
     n = t.size
-    reg = sorted(o for o in regular if 0 < o < n // 2)
-    side = {o + j for o in reg for j in (-1, 1)}
+    mesh = set(_mesh_order_set(n, teeth))
+    reg = sorted(o for o in {*regular, *mesh} if 0 < o < n // 2)
+    centres = reg if regular_sidebands else sorted(mesh)
+    side = {o + j for o in centres for j in (-1, 1)}
     reg_sig = keep_orders(t, reg)
     r = t - keep_orders(t, [0, 1, *reg])
     d = t - keep_orders(t, sorted({0, 1, *reg, *side}))
@@ -248,6 +259,33 @@ def _gear_indicators_orders(
         "diff_kurtosis": _safe(lambda: kurtosis(d)),
     }
     return out, r
+
+
+def _mesh_order_set(n: int, teeth: tuple[int, ...]) -> list[int]:
+    """Mesh harmonics ``k·Z`` of every tooth count below the Nyquist order of ``n`` samples."""
+    return sorted({k * z for z in teeth for k in range(1, (n // 2) // z + 1) if k * z < n // 2})
+
+
+def _combination_orders(teeth: tuple[int, ...], n: int) -> frozenset[int]:
+    """Combination tones ``a·Z_i + b·Z_j`` (a, b ≠ 0, ``|a| + |b| ≤``
+    :data:`COMBINATION_ORDER`) of every pair of meshes on one shaft, below the Nyquist order of
+    ``n`` samples: the two meshes interact through the shaft and the non-linear contacts, so
+    these orders are part of the healthy synchronous signal of a shaft carrying two wheels
+    (e.g. 137 = 53 + 2·42, 409 = 11·42 − 53 on the seed 002 intermediate shaft)."""
+    zs = sorted(set(teeth))
+    if len(zs) < 2:
+        return frozenset()
+    m = COMBINATION_ORDER
+    out: set[int] = set()
+    for i, zi in enumerate(zs):
+        for zj in zs[i + 1 :]:
+            for a in range(-m, m + 1):
+                for b in range(-m, m + 1):
+                    if a and b and abs(a) + abs(b) <= m:
+                        o = a * zi + b * zj
+                        if 1 < o < n // 2:
+                            out.add(o)
+    return frozenset(out)
 
 
 def _planet_pass_orders(comp: Component, comps: Components, n: int) -> frozenset[int]:
@@ -352,9 +390,11 @@ def _own_angle_component(
                 ("SER", "sideband_kurtosis", "NB4"),
             )
         else:
-            extra = _planet_pass_orders(comp, comps, spr) if comps is not None else frozenset()
-            vals, r = _gear_indicators(t, comp.mesh_orders, hist_res, hist_tsa, extra)
-            vals.update(_synchronous_energies(seg, spr, comp.mesh_orders, extra))
+            ring = _planet_pass_orders(comp, comps, spr) if comps is not None else frozenset()
+            extra = ring or _combination_orders(comp.mesh_orders, spr)
+            side = bool(ring)
+            vals, r = _gear_indicators(t, comp.mesh_orders, hist_res, hist_tsa, extra, side)
+            vals.update(_synchronous_energies(seg, spr, comp.mesh_orders, extra, side))
             hist_res.append(r)
         hist_tsa.append(t)
         ctx.add(comp, vals, b)
@@ -364,7 +404,11 @@ def _own_angle_component(
 
 
 def _synchronous_energies(
-    seg: np.ndarray, spr: int, teeth: tuple[int, ...], regular: frozenset[int]
+    seg: np.ndarray,
+    spr: int,
+    teeth: tuple[int, ...],
+    regular: frozenset[int],
+    regular_sidebands: bool = True,
 ) -> dict[str, float]:
     """ER and RMS of the difference signal from unbiased synchronous powers (Braun 1975;
     :func:`geardyn.signal.indicators.synchronous_energy_ratio`): with few revolutions per
@@ -376,7 +420,9 @@ def _synchronous_energies(
         p = synchronous_power(seg, spr, clip=False)
         return {"diff_rms": float(np.sqrt(0.5 * max(float(p[2:].sum()), 0.0)))}
     try:
-        er, drms = synchronous_energy_ratio(seg, spr, teeth, sorted(regular))
+        er, drms = synchronous_energy_ratio(
+            seg, spr, teeth, sorted(regular), regular_sidebands=regular_sidebands
+        )
     except InputError:
         return {}
     return {"ER": er, "diff_rms": drms}

@@ -179,14 +179,8 @@ def energy_ratio(
     return rms(d) / den
 
 
-def synchronous_power(x: np.ndarray, samples_per_rev: int, clip: bool = True) -> np.ndarray:
-    """Unbiased synchronous power per order of an angle-domain record of N ≥ 2 whole
-    revolutions: ``|X̄(o)|² − V(o)/N``, with ``X̄`` the spectrum of the TSA and
-    ``V(o) = Σ_n |X_n(o) − X̄(o)|²/(N − 1)`` the variance of the per-revolution spectra (the
-    non-synchronous part, which the TSA only attenuates to ``V/N``; Braun 1975, "The
-    extraction of periodic waveforms by time domain averaging", Acustica 32). Clipped at 0
-    unless ``clip`` is False (sums over many orders stay unbiased only unclipped);
-    single-sided amplitude² scale (a sine of amplitude A reads A²)."""
+def _synchronous_stats(x: np.ndarray, samples_per_rev: int) -> tuple[np.ndarray, np.ndarray]:
+    """Unclipped unbiased synchronous power per order and its standard error ``V/N``."""
     a = array1d("x", x, 4)
     spr = positive_int("samples_per_rev", samples_per_rev, "samples per revolution", minimum=4)
     n = a.size // spr
@@ -195,7 +189,18 @@ def synchronous_power(x: np.ndarray, samples_per_rev: int, clip: bool = True) ->
     spec = np.fft.rfft(a[: n * spr].reshape(n, spr), axis=1) * (2.0 / spr)
     mean = spec.mean(axis=0)
     var = np.sum(np.abs(spec - mean) ** 2, axis=0) / (n - 1)
-    p = np.abs(mean) ** 2 - var / n
+    return np.abs(mean) ** 2 - var / n, var / n
+
+
+def synchronous_power(x: np.ndarray, samples_per_rev: int, clip: bool = True) -> np.ndarray:
+    """Unbiased synchronous power per order of an angle-domain record of N ≥ 2 whole
+    revolutions: ``|X̄(o)|² − V(o)/N``, with ``X̄`` the spectrum of the TSA and
+    ``V(o) = Σ_n |X_n(o) − X̄(o)|²/(N − 1)`` the variance of the per-revolution spectra (the
+    non-synchronous part, which the TSA only attenuates to ``V/N``; Braun 1975, "The
+    extraction of periodic waveforms by time domain averaging", Acustica 32). Clipped at 0
+    unless ``clip`` is False (sums over many orders stay unbiased only unclipped);
+    single-sided amplitude² scale (a sine of amplitude A reads A²)."""
+    p, _ = _synchronous_stats(x, samples_per_rev)
     return np.maximum(p, 0.0) if clip else p
 
 
@@ -206,29 +211,36 @@ def synchronous_energy_ratio(
     regular: Sequence[int] = (),
     shaft_harmonics: int = 1,
     sidebands: int = 1,
+    regular_sidebands: bool = True,
 ) -> tuple[float, float]:
     """Energy ratio ER = RMS(difference)/RMS(regular) (Zakrajsek et al. 1993) from unbiased
     synchronous powers (:func:`synchronous_power`), so that non-synchronous content left in a
     short average does not inflate it. Regular orders: mesh harmonics of ``teeth`` plus
     ``regular``; the difference band leaves out orders 0…``shaft_harmonics``, the regular
-    orders and their ±1…``sidebands`` sidebands; each sum is unbiased (unclipped orders) and
-    then clipped at 0. Returns ``(ER, rms of the difference)``."""
-    p = synchronous_power(x, samples_per_rev, clip=False)
+    orders and the ±1…``sidebands`` sidebands of the mesh harmonics (and of the ``regular``
+    orders unless ``regular_sidebands`` is False). Each sum is unbiased (unclipped orders) and
+    floored at its standard error ``√Σ(V/N)²`` (the spread of the estimate when there is no
+    synchronous content), so that it never reads 0. Returns ``(ER, rms of the difference)``."""
+    p, se = _synchronous_stats(x, samples_per_rev)
     spr = int(samples_per_rev)
-    reg = set(int(o) for o in regular)
-    if (isinstance(teeth, (int, np.integer)) and teeth) or (
+    has_teeth = (isinstance(teeth, (int, np.integer)) and teeth) or (
         not isinstance(teeth, (int, np.integer)) and len(teeth)
-    ):
-        reg |= set(_mesh_orders(spr, teeth, None))
-    reg = {o for o in reg if 0 < o < p.size}
+    )
+    mesh = set(_mesh_orders(spr, teeth, None)) if has_teeth else set()
+    reg = {o for o in {*mesh, *(int(o) for o in regular)} if 0 < o < p.size}
     if not reg:
         raise InputError("teeth/regular: no regular order below Nyquist; ER undefined")
+    centres = reg if regular_sidebands else mesh
     out = {0, *range(1, shaft_harmonics + 1), *reg}
-    out |= {o + j for o in reg for j in range(-sidebands, sidebands + 1)}
+    out |= {o + j for o in centres for j in range(-sidebands, sidebands + 1)}
     keep = np.ones(p.size, dtype=bool)
     keep[[o for o in out if 0 <= o < p.size]] = False
-    e_reg = max(float(p[sorted(reg)].sum()), 0.0)
-    e_diff = max(float(p[keep].sum()), 0.0)
+    idx = sorted(reg)
+
+    def total(sel) -> float:  # noqa: ANN001
+        return max(float(p[sel].sum()), float(np.sqrt(np.sum(se[sel] ** 2))))
+
+    e_reg, e_diff = total(idx), total(keep)
     if e_reg == 0:
         raise InputError("x: no synchronous power at the regular orders; ER undefined")
     return float(np.sqrt(e_diff / e_reg)), float(np.sqrt(0.5 * e_diff))
@@ -240,13 +252,15 @@ def wheel_sideband_orders(
     other_teeth: Sequence[int] = (),
     sidebands: int = 3,
     mesh_harmonics: int | None = None,
+    exclude: Sequence[int] = (),
 ) -> tuple[list[int], list[int]]:
     """Mesh orders ``k·Z`` and unambiguous sideband orders ``k·Z ± j`` (j = 1…``sidebands``) of
     one wheel in a one-revolution signal of ``n`` samples (orders up to ``n/2 − 1``).
 
     A sideband is ambiguous, and left out, when it lies within ±``sidebands`` of a mesh harmonic
     of another wheel of the same shaft (``other_teeth``); a mesh harmonic is left out when
-    another wheel has one at the same order. Returns ``(mesh_orders, sideband_orders)``.
+    another wheel has one at the same order; orders in ``exclude`` (e.g. combination tones of
+    the shaft's meshes) are never sidebands. Returns ``(mesh_orders, sideband_orders)``.
     """
     nn = positive_int("n", n, "samples per revolution", minimum=4)
     z = positive_int("teeth", teeth, "tooth count")
@@ -269,7 +283,7 @@ def wheel_sideband_orders(
             for o in (m - j, m + j):
                 if 1 <= o <= top and o not in own and not ambiguous(o):
                     side.add(o)
-    return mesh, sorted(side)
+    return mesh, sorted(side - {int(o) for o in exclude})
 
 
 def sideband_energy_ratio(
@@ -278,11 +292,14 @@ def sideband_energy_ratio(
     other_teeth: Sequence[int] = (),
     sidebands: int = 3,
     mesh_harmonics: int | None = None,
+    exclude: Sequence[int] = (),
 ) -> float:
     """SER of one wheel: Σ amplitudes of its unambiguous sidebands / Σ amplitudes of its mesh
     harmonics (Hanna et al. 2011), orders from :func:`wheel_sideband_orders`."""
     a = array1d("tsa_signal", tsa_signal, 4)
-    mesh, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands, mesh_harmonics)
+    mesh, side = wheel_sideband_orders(
+        a.size, teeth, other_teeth, sidebands, mesh_harmonics, exclude
+    )
     spec = _amplitudes(a)
     den = float(spec[mesh].sum()) if mesh else 0.0
     if den == 0:
@@ -296,11 +313,14 @@ def sideband_kurtosis(
     other_teeth: Sequence[int] = (),
     sidebands: int = 3,
     mesh_harmonics: int | None = None,
+    exclude: Sequence[int] = (),
 ) -> float:
     """Normalised kurtosis (FM4 form, Zakrajsek et al. 1993) of the signal rebuilt from the
     wheel's unambiguous sideband orders only (:func:`wheel_sideband_orders`)."""
     a = array1d("tsa_signal", tsa_signal, 4)
-    _, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands, mesh_harmonics)
+    _, side = wheel_sideband_orders(
+        a.size, teeth, other_teeth, sidebands, mesh_harmonics, exclude
+    )
     if not side:
         raise InputError(
             f"teeth: wheel {teeth} has no unambiguous sideband orders below Nyquist "
@@ -316,6 +336,7 @@ def wheel_nb4(
     sidebands: int = 3,
     history: Sequence[np.ndarray] = (),
     mesh_harmonics: int | None = None,
+    exclude: Sequence[int] = (),
 ) -> float:
     """NB4 (Zakrajsek et al. 1993) restricted to one wheel: NA4 of the envelope of the signal
     rebuilt from the wheel's mesh harmonics and unambiguous sidebands
@@ -323,7 +344,9 @@ def wheel_nb4(
 
     def env(t: np.ndarray) -> np.ndarray:
         a = array1d("tsa_signal", t, 4)
-        mesh, side = wheel_sideband_orders(a.size, teeth, other_teeth, sidebands, mesh_harmonics)
+        mesh, side = wheel_sideband_orders(
+            a.size, teeth, other_teeth, sidebands, mesh_harmonics, exclude
+        )
         return np.abs(hilbert(keep_orders(a, [*mesh, *side])))
 
     return na4(env(tsa_signal), [env(h) for h in history])
@@ -336,17 +359,18 @@ def wheel_indicators(
     sidebands: int = 3,
     history: Sequence[np.ndarray] = (),
     mesh_harmonics: int | None = 3,
+    exclude: Sequence[int] = (),
 ) -> dict[str, float]:
     """Indicators localising one wheel among the wheels of its shaft from the shaft's TSA, all
     on the wheel's own mesh harmonics 1…``mesh_harmonics`` (default 3, as SER practice; None:
     up to Nyquist, where empty harmonics add only noise) and their unambiguous sidebands:
     ``SER``, ``sideband_kurtosis`` and ``NB4`` (:func:`wheel_nb4`; ``history``: earlier
-    TSAs)."""
-    h = mesh_harmonics
+    TSAs). ``exclude``: orders that are never sidebands (combination tones)."""
+    h, ex = mesh_harmonics, exclude
     return {
-        "SER": sideband_energy_ratio(tsa_signal, teeth, other_teeth, sidebands, h),
-        "sideband_kurtosis": sideband_kurtosis(tsa_signal, teeth, other_teeth, sidebands, h),
-        "NB4": wheel_nb4(tsa_signal, teeth, other_teeth, sidebands, history, h),
+        "SER": sideband_energy_ratio(tsa_signal, teeth, other_teeth, sidebands, h, ex),
+        "sideband_kurtosis": sideband_kurtosis(tsa_signal, teeth, other_teeth, sidebands, h, ex),
+        "NB4": wheel_nb4(tsa_signal, teeth, other_teeth, sidebands, history, h, ex),
     }
 
 
