@@ -95,7 +95,8 @@ class Features:
     ``units`` of the channel); ``order_spectrum`` and ``envelope_spectrum``: coordinate
     ``order`` [events/rev of the reference]; ``band``: envelope band (orders); ``kurtogram``:
     (window, frequency [orders]) or None; ``markers``: :func:`geardyn.signal.spectral_markers`
-    at the mean speed, or None.
+    at the mean speed, or None; ``block_tsa``: component → the TSA of each block (same angle
+    grid as ``tsa``; input of :func:`reference_residuals`); ``components``: what was judged.
     """
 
     table: pd.DataFrame
@@ -112,6 +113,8 @@ class Features:
     revolutions: float = 0.0
     mean_rpm: float = math.nan
     notes: list[str] = field(default_factory=list)
+    block_tsa: dict[str, list[np.ndarray]] = field(default_factory=dict)
+    components: Components | None = None
 
     def values(self, component: str, indicator: str) -> np.ndarray:
         """Block values of one indicator of one component (time order)."""
@@ -341,6 +344,7 @@ class _Ctx:
     tsas: dict[str, xr.DataArray]
     notes: list[str]
     cache: dict[tuple[float, int], tuple[np.ndarray, int, int]] = field(default_factory=dict)
+    blocks: dict[str, list[np.ndarray]] = field(default_factory=dict)
 
     def own(self, abs_ratio: float, multiple: int = 2) -> tuple[np.ndarray, int, int]:
         key = (round(abs_ratio, 12), multiple)
@@ -397,6 +401,7 @@ def _own_angle_component(
             vals.update(_synchronous_energies(seg, spr, comp.mesh_orders, extra, side))
             hist_res.append(r)
         hist_tsa.append(t)
+        ctx.blocks.setdefault(comp.name, []).append(t)
         ctx.add(comp, vals, b)
     if comp.name not in ctx.tsas:
         whole = np.roll(tsa(xs[: n_rev * spr], spr), k0)
@@ -495,6 +500,8 @@ def _planetary_components(
                 vals, r = _gear_indicators(t, (teeth,), hist_res[p], hist_tsa[p])
                 hist_res[p].append(r)
                 hist_tsa[p].append(t)
+                if p == planets[0]:
+                    ctx.blocks.setdefault(comp.name, []).append(t)
                 per_planet.append(vals)
             if not ok:
                 break
@@ -502,6 +509,7 @@ def _planetary_components(
             ctx.add(comp, {k: float(np.nanmean([v[k] for v in per_planet])) for k in keys}, b)
         if not ok:
             ctx.rows[:] = [r for r in ctx.rows if r["component"] != comp.name]
+            ctx.blocks.pop(comp.name, None)
             ctx.notes.append(
                 f"{comp.name}: too few carrier revolutions per block for the planet windows to "
                 "cover every tooth; own-angle TSA used"
@@ -667,6 +675,7 @@ def extract_features(
     return Features(
         table=table,
         tsa=ctx.tsas,
+        block_tsa=ctx.blocks,
         order_spectrum=spec,
         envelope_spectrum=env,
         band=None if band is None else (float(band[0]), float(band[1])),
@@ -679,6 +688,7 @@ def extract_features(
         revolutions=float(revs),
         mean_rpm=float(mean_rpm),
         notes=ctx.notes,
+        components=components,
     )
 
 
@@ -802,4 +812,143 @@ def features_from_result(
     )
 
 
-__all__ = ["COLUMNS", "Features", "extract_features", "features_from_result"]
+# ---------------------------------------------------------------------------- baseline reference
+def _on_grid(ref: np.ndarray, n: int) -> np.ndarray:
+    """A one-revolution signal on ``n`` samples (periodic Fourier resampling if sizes differ)."""
+    r = np.asarray(ref, dtype=float)
+    if r.size == n:
+        return r
+    from scipy.signal import resample
+
+    return resample(r, n)
+
+
+def reference_tsa(features: list[Features]) -> dict[str, np.ndarray]:
+    """Mean whole-record TSA per component over healthy records (on the grid of the first
+    record that has the component)."""
+    out: dict[str, list[np.ndarray]] = {}
+    for f in features:
+        for name, da in f.tsa.items():
+            grid = out.setdefault(name, [])
+            n = grid[0].size if grid else da.size
+            grid.append(_on_grid(da.values, n))
+    return {k: np.mean(v, axis=0) for k, v in out.items()}
+
+
+def reference_block_tsa(features: list[Features]) -> dict[str, list[np.ndarray]]:
+    """Mean TSA per component and block index over healthy records (blocks present in every
+    record that has the component)."""
+    out: dict[str, list[list[np.ndarray]]] = {}
+    for f in features:
+        for name, blocks in f.block_tsa.items():
+            acc = out.setdefault(name, [])
+            for b, t in enumerate(blocks):
+                if b == len(acc):
+                    acc.append([])
+                n = acc[b][0].size if acc[b] else t.size
+                acc[b].append(_on_grid(t, n))
+    return {k: [np.mean(v, axis=0) for v in blocks] for k, blocks in out.items()}
+
+
+def reference_residuals(
+    features: Features,
+    reference: dict[str, np.ndarray | xr.DataArray],
+    block_reference: dict[str, list[np.ndarray]] | None = None,
+) -> pd.DataFrame:
+    """Indicators of the difference between each block's TSA and a healthy reference TSA of
+    the same component (rows in :data:`COLUMNS` layout).
+
+    A synchronous average subtracted from a healthy reference average leaves the fault's own
+    signature and the averaging noise — the healthy meshing, combination tones and structural
+    responses cancel however strong they are (the reference-residual idea of Wang & Wong 2002,
+    "Autoregressive model-based gear fault diagnosis", J. Vib. Acoust. 124, with the
+    reference taken as a healthy average; NA4's use of baseline statistics, Decker 2002,
+    NASA TM-2002-211491). Both TSAs share the own-angle origin (reference angle origin × ratio),
+    so records must use the same angle origin (a tacho, or simulated angles from 0).
+
+    ``block_reference`` (:func:`reference_block_tsa`): per-block references, used where they
+    exist. When the records start from the same state and speed law (simulations), block
+    ``b`` of every record covers the same angles of **every** shaft, so the deterministic
+    non-synchronous content that a short average keeps (other shafts' meshes at non-integer
+    orders) cancels as well, and the residual is the fault plus measurement noise.
+
+    Indicators: ``RR_kurtosis`` (normalised kurtosis of the residual: 3 for Gaussian noise)
+    and ``RR_rms`` (RMS of the residual over the RMS of the reference with its mean removed).
+    Wheels: the residual restricted to the wheel's mesh harmonics and unambiguous sidebands
+    (:func:`geardyn.signal.indicators.wheel_sideband_orders`, all harmonics)."""
+    from geardyn.signal.indicators import wheel_sideband_orders
+
+    comps = {c.name: c for c in features.components.items} if features.components else {}
+    rows = []
+    for name, blocks in features.block_tsa.items():
+        if name not in reference or name not in comps:
+            continue
+        comp = comps[name]
+        ref_v = reference[name]
+        ref_v = ref_v.values if isinstance(ref_v, xr.DataArray) else ref_v
+        per_block = (block_reference or {}).get(name, [])
+        for b, t in enumerate(blocks):
+            r = _on_grid(per_block[b] if b < len(per_block) else ref_v, t.size)
+            d = t - r
+            d = d - d.mean()
+            rr = r - r.mean()
+            if comp.kind == "wheel" and comp.teeth:
+                mesh, side = wheel_sideband_orders(
+                    t.size, int(comp.teeth), comp.other_orders, WHEEL_SIDEBANDS
+                )
+                d, rr = keep_orders(d, [*mesh, *side]), keep_orders(rr, [*mesh, *side])
+            vals = {
+                "RR_kurtosis": _safe(lambda d=d: kurtosis(d)),
+                "RR_rms": _safe(lambda d=d, rr=rr: rms(d) / rms(rr)),
+            }
+            for ind, v in vals.items():
+                rows.append(
+                    {
+                        "component": name,
+                        "kind": comp.kind,
+                        "indicator": ind,
+                        "value": v,
+                        "block": b,
+                        "channel": features.channel,
+                    }
+                )
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def with_reference_residuals(
+    baselines: list[Features], record: Features | None = None
+) -> tuple[list[Features], Features | None]:
+    """Append the reference-residual indicators (:func:`reference_residuals`) to the tables of
+    healthy ``baselines`` — each against the mean TSAs (whole record and per block) of the
+    **other** baselines
+    (leave-one-out, so that its own noise is not in its reference) — and of ``record`` against
+    the mean of all baselines. Needs at least 2 baselines; returns new objects."""
+    from dataclasses import replace
+
+    if len(baselines) < 2:
+        raise InputError(
+            f"baselines: reference residuals need at least 2 healthy records (leave-one-out), "
+            f"got {len(baselines)}"
+        )
+    out = []
+    for i, f in enumerate(baselines):
+        others = [g for j, g in enumerate(baselines) if j != i]
+        rr = reference_residuals(f, reference_tsa(others), reference_block_tsa(others))
+        out.append(replace(f, table=pd.concat([f.table, rr], ignore_index=True)))
+    rec = None
+    if record is not None:
+        rr = reference_residuals(record, reference_tsa(baselines), reference_block_tsa(baselines))
+        rec = replace(record, table=pd.concat([record.table, rr], ignore_index=True))
+    return out, rec
+
+
+__all__ = [
+    "COLUMNS",
+    "Features",
+    "extract_features",
+    "features_from_result",
+    "reference_block_tsa",
+    "reference_residuals",
+    "reference_tsa",
+    "with_reference_residuals",
+]
