@@ -13,7 +13,7 @@ import pytest
 import geardyn
 from geardyn.config.loader import parse_config
 from geardyn.diagnosis.baseline import ThresholdRule, thresholds
-from geardyn.diagnosis.faults import fault_list, healthy_variant
+from geardyn.diagnosis.faults import ConfiguredFault, fault_list, healthy_variant
 from geardyn.diagnosis.verdict import judge, read_verdict, record_values
 from geardyn.errors import InputError
 from tests.conftest import EXAMPLES
@@ -120,6 +120,21 @@ def test_component_not_analysed_is_unknown_with_the_reason() -> None:
     assert v.to_dict()["notes"] == ["carrier: less than one revolution in the record; left out"]
 
 
+def test_alarm_on_the_shaft_of_the_faulty_wheel_is_not_unexpected() -> None:
+    base = table({("z42", "wheel", "SER"): [1.0, 1.1], ("z53", "wheel", "SER"): [1.0, 1.1],
+                  ("inter", "shaft", "FM4"): [3.0, 3.1]})
+    rec = table({("z42", "wheel", "SER"): [5.0], ("z53", "wheel", "SER"): [1.0],
+                 ("inter", "shaft", "FM4"): [6.0]})
+    rule = ThresholdRule()
+    fault = ConfiguredFault("z42", "wheel", "crack", "gear_geometry[1]", shaft="inter")
+    s = judge(rec, thresholds(base, rule), rule, expected_faults=[fault]).summary()
+    assert s["alarms"] == ["z42", "inter"]
+    assert s["unexpected"] == [] and s["missed"] == [] and s["localised"]
+    rec.loc[rec["component"] == "z53", "value"] = 5.0  # the wheel sharing the shaft alarms
+    s = judge(rec, thresholds(base, rule), rule, expected_faults=[fault]).summary()
+    assert s["unexpected"] == ["z53"] and not s["localised"]
+
+
 def test_verdict_json_schema(tmp_path) -> None:
     base = table({("sun", "sun", "FM4"): [3.0, 3.1, 2.9], ("sun", "sun", "NA4"): [3.0] * 3})
     rule = ThresholdRule(k=2.5, sigma_floor=0.1)
@@ -170,7 +185,7 @@ def test_bad_inputs_name_the_field() -> None:
 def test_healthy_variant_and_fault_list_planetary() -> None:
     cfg = geardyn.load_config(EXAMPLES / "planetary_reclaimer.toml")
     faults = fault_list(cfg)
-    assert [(f.component, f.kind) for f in faults] == [("planetary.sun", "wheel")]
+    assert [(f.component, f.kind, f.shaft) for f in faults] == [("planetary.sun", "wheel", "sun")]
     assert "20%" in faults[0].description
     assert faults[0].field == "planetary_dynamics.stages[0].faults[0]"
     healthy = healthy_variant(cfg)
@@ -186,6 +201,7 @@ def test_healthy_variant_and_fault_list_transmission() -> None:
     low = next(g for g in data["gear_geometry"] if g["pair"] == "low")
     low["cracks"] = [{"gear": "a", "depth_m": 1e-3}]
     cfg = parse_config(data)
-    got = {(f.component, f.kind) for f in fault_list(cfg)}
-    assert got == {("intermediate/z42", "wheel"), ("output roller", "bearing")}
+    got = {(f.component, f.kind, f.shaft) for f in fault_list(cfg)}
+    assert got == {("intermediate/z42", "wheel", "intermediate"),
+                   ("output roller", "bearing", "output")}
     assert fault_list(healthy_variant(cfg)) == []

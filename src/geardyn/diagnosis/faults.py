@@ -29,12 +29,15 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class ConfiguredFault:
     """One fault of a config: the component it sits on (kinematics name), its kind (``wheel`` or
-    ``bearing``), a description with sizes in SI units and the config field that holds it."""
+    ``bearing``), a description with sizes in SI units, the config field that holds it and the
+    link (shaft) carrying the component (a shaft TSA contains its wheels, so an alarm on that
+    shaft is consistent with the fault)."""
 
     component: str
     kind: str
     description: str
     field: str
+    shaft: str = ""
 
     def __str__(self) -> str:
         return f"{self.component}: {self.description} ({self.field})"
@@ -57,14 +60,15 @@ def healthy_variant(cfg: GeardynConfig) -> GeardynConfig:
     return parse_config(data, source="healthy variant")
 
 
-def _wheel(mesh: GearMesh, side: str) -> str:
-    """Kinematics name of the wheel on side ``a``/``b`` of a mesh (as in ``freqs.wheels``)."""
+def _wheel(mesh: GearMesh, side: str) -> tuple[str, str]:
+    """Kinematics name of the wheel on side ``a``/``b`` of a mesh (as in ``freqs.wheels``)
+    and its link."""
     link, wheel, teeth = (
         (mesh.link_a, mesh.wheel_a, mesh.teeth_a)
         if side == "a"
         else (mesh.link_b, mesh.wheel_b, mesh.teeth_b)
     )
-    return wheel or f"{link}/z{teeth}"
+    return wheel or f"{link}/z{teeth}", link
 
 
 def _meshes_of(entry: str, meshes: list[GearMesh]) -> list[GearMesh]:
@@ -88,14 +92,15 @@ def _planetary_faults(cfg: GeardynConfig, meshes: dict[str, GearMesh]) -> list[C
             mesh_name = f"{sd.stage}.{'ring' if f.gear == 'ring' else 'sun'}-planet1"
             mesh = meshes.get(mesh_name)
             side = "b" if f.gear == "planet" else "a"
-            component = _wheel(mesh, side) if mesh is not None else f"{sd.stage}.{f.gear}"
+            component, link = (_wheel(mesh, side) if mesh is not None
+                               else (f"{sd.stage}.{f.gear}", ""))
             if f.kind == "crack":
                 what = f"tooth crack, {f.crack_fraction:.0%} of the tooth thickness"
             else:
                 what = (f"tooth spall, depth {f.spall_depth_m * 1e3:.3g} mm at "
                         f"{f.spall_centre:.2f} of the path of contact")
             out.append(ConfiguredFault(component, "wheel", what,
-                                       f"planetary_dynamics.stages[{i}].faults[{j}]"))
+                                       f"planetary_dynamics.stages[{i}].faults[{j}]", link))
     return out
 
 
@@ -111,27 +116,30 @@ def _geometry_faults(cfg: GeardynConfig, meshes: list[GearMesh]) -> list[Configu
             else:
                 what = (f"spall {fault.radial_width_m * 1e3:.3g} mm wide, "
                         f"{fault.depth_m * 1e3:.3g} mm deep on tooth {fault.tooth}")
-            names = dict.fromkeys(_wheel(m, fault.gear) for m in found) or {
-                f"{entry.pair}.{fault.gear}": None
+            wheels = dict(_wheel(m, fault.gear) for m in found) or {
+                f"{entry.pair}.{fault.gear}": ""
             }
-            for name in names:
+            for name, link in wheels.items():
                 out.append(ConfiguredFault(name, "wheel", what,
-                                           f"gear_geometry[{i}] '{entry.pair}'.{kind}[{j}]"))
+                                           f"gear_geometry[{i}] '{entry.pair}'.{kind}[{j}]", link))
     return out
 
 
-def _bearing_faults(cfg: GeardynConfig) -> list[ConfiguredFault]:
+def _bearing_faults(cfg: GeardynConfig, frame: str) -> list[ConfiguredFault]:
     tr = cfg.transmission
     if tr is None:
         return []
+    links = {s.name: s.link or "" for s in tr.shafts}
     out = []
     for i, b in enumerate(tr.bearings):
         s = b.outer_spall
         if s is not None:
             what = (f"outer-race spall {s.angular_length_deg:.3g}° long, "
                     f"{s.depth_m * 1e3:.3g} mm deep at {s.angle_deg:.3g}°")
+            link = links.get(b.at.shaft, "")
             out.append(ConfiguredFault(b.name, "bearing", what,
-                                       f"transmission.bearings[{i}] '{b.name}'.outer_spall"))
+                                       f"transmission.bearings[{i}] '{b.name}'.outer_spall",
+                                       link if link != frame else ""))
     return out
 
 
@@ -139,9 +147,10 @@ def fault_list(cfg: GeardynConfig) -> list[ConfiguredFault]:
     """Every fault configured in ``cfg`` with the component it sits on (empty if healthy)."""
     from geardyn.kinematics import analyze_kinematics
 
-    meshes = list(analyze_kinematics(cfg).graph.meshes)
+    graph = analyze_kinematics(cfg).graph
+    meshes = list(graph.meshes)
     return (
         _planetary_faults(cfg, {m.name: m for m in meshes})
         + _geometry_faults(cfg, meshes)
-        + _bearing_faults(cfg)
+        + _bearing_faults(cfg, graph.frame)
     )

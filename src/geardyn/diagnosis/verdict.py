@@ -92,7 +92,9 @@ class Verdict:
         return [c for c, v in self.components.items() if v.state == "alarm"]
 
     def summary(self) -> dict[str, Any]:
-        """Counts, alarms and (with configured faults) whether the alarms match them."""
+        """Counts, alarms and (with configured faults) whether the alarms match them: ``missed``
+        faulty components not in alarm, ``unexpected`` alarms elsewhere — an alarm on the shaft
+        carrying a faulty wheel or bearing is not unexpected (its TSA contains the wheel)."""
         states = [v.state for v in self.components.values()]
         out: dict[str, Any] = {
             "alarms": self.alarms,
@@ -100,9 +102,11 @@ class Verdict:
         }
         if self.expected_faults is not None:
             expected = sorted({f.component for f in self.expected_faults})
+            carriers = {f.shaft for f in self.expected_faults if f.shaft}
             out["expected"] = expected
             out["missed"] = [c for c in expected if c not in self.alarms]
-            out["unexpected"] = [c for c in self.alarms if c not in expected]
+            out["unexpected"] = [c for c in self.alarms if c not in expected and not (
+                c in carriers and self.components[c].kind == "shaft")]
             out["localised"] = not out["missed"] and not out["unexpected"]
         return out
 
