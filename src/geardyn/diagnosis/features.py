@@ -575,6 +575,37 @@ def _bearing_features(
     return whole
 
 
+def _spectrum_and_band(
+    ref: AngleSignal, units: str, envelope_band: tuple[float, float] | None, notes: list[str]
+) -> tuple[xr.DataArray | None, xr.DataArray | None, tuple[float, float] | None]:
+    """Order spectrum of the reference-angle signal, kurtogram and envelope band (orders):
+    ``envelope_band`` if given, else the band of maximum spectral kurtosis below the
+    anti-aliasing limit of the resampling (Antoni 2007)."""
+    spr = ref.samples_per_rev
+    whole = _whole(ref)
+    spec = None
+    if whole.size >= spr:
+        spec = order_spectrum(whole, spr).rename("amplitude")
+        spec.attrs["units"] = units
+    if envelope_band is not None:
+        lo, hi = (float(v) for v in envelope_band)
+        if not 0 < lo < hi < spr / 2:
+            raise InputError(
+                f"envelope_band: need 0 < lo < hi < {spr / 2:g} orders (Nyquist of the "
+                f"reference grid), got ({lo:g}, {hi:g})"
+            )
+        return spec, None, (lo, hi)
+    try:
+        top = min(float(ref.max_valid_order), 0.5 * spr)
+        kg = stft_kurtogram(whole, float(spr), unit="events/rev", fmax=top)
+    except InputError as exc:
+        notes.append(f"kurtogram: {exc}; envelope of the full band")
+        return spec, None, None
+    lo, hi = kg.attrs.pop("band")
+    kg.attrs["band_lo"], kg.attrs["band_hi"] = float(lo), float(hi)
+    return spec, kg, (float(lo), float(hi))
+
+
 # ---------------------------------------------------------------------------- public API
 def extract_features(
     x: np.ndarray,
@@ -603,6 +634,11 @@ def extract_features(
     ``ring_stage``: planetary stage whose fixed ring carries this accelerometer (planet-window
     TSA; ``sensor_angle`` [rad] as in :func:`geardyn.sensors.planet_pass_signal`).
     """
+    if not isinstance(components, Components):
+        raise InputError(
+            f"components: expected the result of machine_components(), got "
+            f"{type(components).__name__}"
+        )
     xs = array1d("x", x, 16)
     t = array1d("time", time, xs.size, "sample times [s]")
     th = array1d("ref_angle", ref_angle, xs.size, "reference angle [rad]")
@@ -635,30 +671,7 @@ def extract_features(
     mean_rpm = 60.0 * revs / duration if duration > 0 else math.nan
     ctx = _Ctx(ref, nb, channel, units, [], {}, [])
 
-    whole_ref = _whole(ref)
-    spec = None
-    if whole_ref.size >= spr:
-        spec = order_spectrum(whole_ref, spr).rename("amplitude")
-        spec.attrs["units"] = units
-    # envelope band
-    kg = None
-    band = None
-    if envelope_band is not None:
-        lo, hi = (float(v) for v in envelope_band)
-        if not 0 < lo < hi < spr / 2:
-            raise InputError(
-                f"envelope_band: need 0 < lo < hi < {spr / 2:g} orders (Nyquist of the "
-                f"reference grid), got ({lo:g}, {hi:g})"
-            )
-        band = (lo, hi)
-    else:
-        try:
-            top = min(float(ref.max_valid_order), 0.5 * spr)
-            kg = stft_kurtogram(whole_ref, float(spr), unit="events/rev", fmax=top)
-            band = tuple(kg.attrs.pop("band"))
-            kg.attrs["band_lo"], kg.attrs["band_hi"] = band
-        except InputError as exc:
-            ctx.notes.append(f"kurtogram: {exc}; envelope of the full band")
+    spec, kg, band = _spectrum_and_band(ref, units, envelope_band, ctx.notes)
     env = _bearing_features(ctx, components, band)
 
     handled: set[str] = set()
