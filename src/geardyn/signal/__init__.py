@@ -1,5 +1,7 @@
-"""Signal processing for diagnosis: angular resampling, spectra, TSA, cepstrum, envelope,
-wavelets, condition indicators, GTDT transfer path analysis and spectrum annotation.
+"""Signal processing for diagnosis: angular resampling, spectra, TSA (every mesh of a shaft),
+cepstrum, envelope, spectral kurtosis / kurtogram, order tracks and tacho-less speed, wavelets,
+condition indicators (per shaft and per wheel), GTDT transfer path analysis and spectrum
+annotation.
 
 Plain functions: arrays in, arrays / ``xarray.DataArray`` out; SI units (s, Hz, rad, rad/s) or
 orders (events per revolution) as documented per function.
