@@ -63,15 +63,17 @@ noise_rms = 1.0
 
 
 def test_diagnose_short_run_end_to_end(tmp_path: Path) -> None:
-    """Seed 004 reclaimer (sun crack) with a ring accelerometer, 3 s runs: exit 0, verdict
-    table printed, verdict.json with every component and its state, one report.html."""
+    """Seed 004 reclaimer (sun crack) with a ring accelerometer, 3 s runs, reference residuals:
+    exit 0, verdict table printed, verdict.json with every component and its state, one
+    report.html."""
     import json
 
     config = tmp_path / "reclaimer.toml"
     config.write_text((EXAMPLES / "planetary_reclaimer.toml").read_text() + SENSORS)
     out = tmp_path / "diag"
     res = runner.invoke(app, ["diagnose", str(config), "--out", str(out), "--t-end", "3",
-                              "--skip", "0.5", "--seeds", "0,1", "--blocks", "2"])
+                              "--skip", "0.5", "--seeds", "0,1", "--blocks", "2",
+                              "--residuals"])
     assert res.exit_code == 0, res.output
     text = " ".join(res.output.split())
     assert "planetary.sun" in text and "worst indicator" in text
@@ -81,6 +83,7 @@ def test_diagnose_short_run_end_to_end(tmp_path: Path) -> None:
     assert d["channels"] == ["acc_ring"]
     assert [f["component"] for f in d["expected_faults"]] == ["planetary.sun"]
     assert "planetary.sun" in d["components"]
+    assert any(k.startswith("RR_") for c in d["components"].values() for k in c["indicators"])
     for c in d["components"].values():
         assert c["state"] in ("healthy", "alarm", "unknown")
         assert c["state"] != "healthy" or c["indicators"]

@@ -79,6 +79,9 @@ def diagnose_cmd(
     blocks: int | None = typer.Option(None, "--blocks", help="blocks of revolutions per record"),
     skip: float | None = typer.Option(None, "--skip", help="start transient discarded \\[s]"),
     t_end: float | None = typer.Option(None, "--t-end", help="simulated duration \\[s]"),
+    residuals: bool | None = typer.Option(
+        None, "--residuals/--no-residuals",
+        help="reference-residual indicators RR_kurtosis/RR_rms (≥ 2 baselines)"),
 ) -> None:
     """Healthy baseline, thresholds and a verdict per component; writes verdict.json and a
     self-contained report.html."""
@@ -101,7 +104,7 @@ def diagnose_cmd(
 
         common = {"channel": channel, "reference": reference, "k": k,
                   "sigma_floor": sigma_floor, "n_blocks": blocks, "skip_s": skip,
-                  "progress": progress}
+                  "reference_residuals": residuals, "progress": progress}
         if record is not None:
             if seeds is not None or record_seed is not None or t_end is not None:
                 raise InputError("--seeds/--record-seed/--t-end are for simulated runs; they "

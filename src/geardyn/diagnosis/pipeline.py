@@ -139,9 +139,13 @@ def _finish(
     info: tuple[dict[str, Any], dict[str, Any]],
     expected: list[ConfiguredFault] | None,
 ) -> Verdict:
-    """Thresholds, verdict, verdict.json and report.html from the features."""
+    """Reference residuals (if asked), thresholds, verdict, verdict.json and report.html from
+    the features."""
     from geardyn.diagnosis.components import machine_components
+    from geardyn.diagnosis.features import with_reference_residuals
 
+    if opts.reference_residuals:
+        baseline, record = with_reference_residuals(baseline, record)
     rule = ThresholdRule(k=opts.threshold_k, sigma_floor=opts.sigma_floor)
     th = thresholds([f.table for f in baseline], rule)
     items = machine_components(cfg, record.reference).items if record.reference else []
@@ -170,6 +174,7 @@ def diagnose(
     n_blocks: int | None = None,
     skip_s: float | None = None,
     t_end_s: float | None = None,
+    reference_residuals: bool | None = None,
     progress: Progress | None = None,
 ) -> Verdict:
     """Simulate the healthy baseline and the faulty record of ``cfg``, judge the record and
@@ -177,15 +182,16 @@ def diagnose(
 
     Defaults from ``[diagnosis]`` (baseline seeds 0, 1, 2; record seed 100; k = 3; σ floor
     5 % of |mean|; 4 blocks; the first sensor channel). ``t_end_s`` [s] overrides the run
-    length, ``skip_s`` [s] the start transient discarded. Raises InputError when the output
-    directory is not writable (before any simulation), a run does not end with status ``ok``
-    or the result has no sensor channel.
+    length, ``skip_s`` [s] the start transient discarded; ``reference_residuals`` adds the
+    RR indicators of :func:`geardyn.diagnosis.features.with_reference_residuals`. Raises
+    InputError when the output directory is not writable (before any simulation), a run does
+    not end with status ``ok`` or the result has no sensor channel.
     """
     from geardyn.run import run_simulation
 
     opts = options(cfg, baseline_seeds=baseline_seeds, record_seed=record_seed, channel=channel,
                    reference=reference, threshold_k=k, sigma_floor=sigma_floor, blocks=n_blocks,
-                   skip_s=skip_s, t_end_s=t_end_s)
+                   skip_s=skip_s, t_end_s=t_end_s, reference_residuals=reference_residuals)
     out = check_output_dir(out_dir)
     if opts.record_seed in opts.baseline_seeds:
         raise ConfigError(f"diagnosis.record_seed: {opts.record_seed} is also a baseline seed "
@@ -244,6 +250,7 @@ def diagnose_files(
     sigma_floor: float | None = None,
     n_blocks: int | None = None,
     skip_s: float | None = None,
+    reference_residuals: bool | None = None,
     progress: Progress | None = None,
 ) -> Verdict:
     """Judge the result file ``record_path`` against the healthy result files
@@ -254,7 +261,8 @@ def diagnose_files(
     if not baseline_paths:
         raise InputError("baseline: give at least one healthy result file (--baseline)")
     opts = options(cfg, channel=channel, reference=reference, threshold_k=k,
-                   sigma_floor=sigma_floor, blocks=n_blocks, skip_s=skip_s)
+                   sigma_floor=sigma_floor, blocks=n_blocks, skip_s=skip_s,
+                   reference_residuals=reference_residuals)
     out = check_output_dir(out_dir)
     n = len(baseline_paths) + 1
     feats = []
