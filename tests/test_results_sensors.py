@@ -265,3 +265,35 @@ def test_ring_sensor_faces_the_planet_at_its_position():
     d = np.radians(20.0)
     w = ring_sensor_windows(np.array([alpha + d]), psi, alpha)[:, 0]
     assert w == pytest.approx([0.5 * (1 + math.cos(3 * d)), 0.0, 0.0], abs=1e-12)
+
+
+def test_fe_transmission_result_layout_and_analyze(tmp_path, examples_dir):
+    """FE model: the result layout (per-shaft angle/speed, housing forces of every bearing),
+    sensors on it, and `analyze` per channel on the file written by `geardyn transmission`.
+    Invariant: the bearings' housing forces balance (no gravity, mesh forces are internal):
+    their sum is small against each bearing's load."""
+    cfg_path = examples_dir / "seed002_diagnose_spall.toml"
+    out = tmp_path / "fe.nc"
+    r = runner.invoke(app, ["transmission", str(cfg_path), "--revolutions", "3",
+                            "--netcdf", str(out)])
+    assert r.exit_code == 0, r.output
+    ds = xr.load_dataset(out)
+    assert results.is_result(ds) and ds.attrs["model"] == "transmission"
+    assert results.channels(ds) == ["acc_output", "enc_output", "enc_intermediate",
+                                    "tacho_output"]
+    assert list(ds.link.values) == ["output", "intermediate", "input"]
+    f = ds.bearing_force.where(ds.time > 0.1, drop=True).mean("time")  # (bearing, axis)
+    total = np.hypot(*f.sum("bearing").values)
+    assert total < 0.02 * float(np.hypot(f.sel(axis="x"), f.sel(axis="y")).max())
+    # speed ratio of the meshes: output / intermediate = 42/55 (seed 002 Table 2)
+    w = ds.speed.where(ds.time > 0.1, drop=True).mean("time")
+    assert float(w.sel(shaft="output") / w.sel(shaft="intermediate")) == pytest.approx(
+        42 / 55, rel=1e-3)
+    for ch in ("acc_output", "enc_intermediate"):
+        r = runner.invoke(app, ["analyze", str(out), "-c", str(cfg_path), "--channel", ch,
+                                "--out", str(tmp_path / ch)])
+        assert r.exit_code == 0, r.output
+    r = runner.invoke(app, ["analyze", str(out), "-c", str(cfg_path), "--out",
+                            str(tmp_path / "x")])
+    assert r.exit_code == 2 and "acc_output, enc_output, enc_intermediate, tacho_output" in \
+        r.output

@@ -110,9 +110,7 @@ def _transmission(cfg, revolutions: float | None, t_end_s: float | None  # noqa:
         ds = simulate(cfg, revolutions=revolutions)
     except SimulationDivergedError as exc:
         ds = exc.result
-    links = {s.name: (s.link or s.name) for s in cfg.transmission.shafts}
-    return ds.assign_coords(link=("shaft", [links.get(str(s), str(s))
-                                            for s in ds["shaft"].values]))
+    return ds
 
 
 def sensor_context(cfg, ds: xr.Dataset) -> SensorContext:  # noqa: ANN001

@@ -164,6 +164,7 @@ def simulate(
     nb = model.bearings.node.size
     time = rec[:, 0]
     sign = np.array([model.shaft_sign[s] for s in shafts])
+    links = {sc.name: (sc.link or sc.name) for sc in t.shafts}
     o_b = 2 + 2 * nd
     ds = xr.Dataset(
         {
@@ -180,6 +181,7 @@ def simulate(
                            {"units": "N", "long_name": "normal force, transverse LOA"}),
         },
         coords={"time": ("time", time, {"units": "s"}), "shaft": shafts,
+                "link": ("shaft", [links.get(s, s) for s in shafts]),
                 "bearing": model.bearings.names, "mesh": model.meshes.names,
                 "axis": ["x", "y"]},
     )
