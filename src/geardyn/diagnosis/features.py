@@ -433,6 +433,13 @@ def _synchronous_energies(
     return {"ER": er, "diff_rms": drms}
 
 
+def _nanmean(values: list[float]) -> float:
+    """Mean of the finite values, NaN if there is none (no warning)."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(v.mean()) if v.size else math.nan
+
+
 def _safe_dict(fn: Callable[[], dict[str, float]], keys: tuple[str, ...]) -> dict[str, float]:
     try:
         return {k: (float(v) if np.isfinite(v) else math.nan) for k, v in fn().items()}
@@ -506,7 +513,7 @@ def _planetary_components(
             if not ok:
                 break
             keys = per_planet[0].keys()
-            ctx.add(comp, {k: float(np.nanmean([v[k] for v in per_planet])) for k in keys}, b)
+            ctx.add(comp, {k: _nanmean([v[k] for v in per_planet]) for k in keys}, b)
         if not ok:
             ctx.rows[:] = [r for r in ctx.rows if r["component"] != comp.name]
             ctx.blocks.pop(comp.name, None)
