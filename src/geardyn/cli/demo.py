@@ -3,6 +3,7 @@ and prints its results."""
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
 import typer
@@ -38,6 +39,10 @@ COMMAND_EXAMPLES = [
 ]
 
 
+#: Last demo step: fault to verdict (example, ``geardyn diagnose`` options for a short run).
+DIAGNOSIS_EXAMPLE = ("seed004_diagnose_sun_crack.toml", ["--t-end", "10", "--seeds", "0,1"])
+
+
 def examples_dir() -> Path:
     """The repository's ``examples/`` folder (the demo runs from a source checkout)."""
     here = Path(__file__).resolve()
@@ -69,3 +74,9 @@ def demo_cmd(
         console.rule(f"[bold]{title}")
         console.print(f"[dim]$ geardyn {' '.join(args)}[/]")
         command.main(args, prog_name="geardyn", standalone_mode=False)
+    name, options = DIAGNOSIS_EXAMPLE
+    out = Path(tempfile.gettempdir()) / "geardyn-demo-diagnosis"
+    args = ["diagnose", str(folder / name), "--out", str(out), *options]
+    console.rule("[bold]seed 004 reclaimer: healthy baseline vs 20 % sun-tooth crack, verdict")
+    console.print(f"[dim]$ geardyn {' '.join(args)}[/]")
+    command.main(args, prog_name="geardyn", standalone_mode=False)
