@@ -163,3 +163,33 @@ def test_synchronous_energy_ratio_is_unbiased_by_non_synchronous_noise():
         assert synchronous_power(x, 256)[20] == pytest.approx(1.0, rel=0.05)
     with pytest.raises(InputError, match="at least 2 whole revolutions"):
         synchronous_power(np.ones(300), 256)
+
+
+def test_planetary_tsa_detrend_removes_pass_to_pass_level_changes():
+    """A planet tooth pulse (the planetary-TSA case of test_diagnosis) plus a level that changes
+    from one carrier revolution to the next (load sharing, ±5 units), both seen through the
+    planet-pass lobe: without ``detrend`` the pieces' lobe-shaped levels leave steps in the
+    average (low orders 1–3 above 0.3); removing a weighted quadratic from each piece first
+    (``detrend=2``) leaves < 0.05 there, and the pulse keeps its position (tooth 5) and most
+    of its height (> 0.7 of the unit pulse)."""
+    from geardyn.signal import planetary_tsa
+
+    zr, zp, n_pl, spt, revs = 65, 24, 3, 32, 48
+    spc = zr * spt
+    m = np.arange(spc * revs) / spt
+    theta = 2 * np.pi * m / zr
+    rel = (theta + np.pi / n_pl) % (2 * np.pi)
+    win0 = np.where(rel < 2 * np.pi / n_pl, 0.5 * (1 - np.cos(n_pl * rel)), 0.0)
+    dm = (m - 5.0 + zp / 2) % zp - zp / 2
+    level = np.repeat(np.random.default_rng(2).uniform(-5, 5, revs), spc)
+    x = win0 * (np.exp(-0.5 * (dm * spt / 2.0) ** 2) + level)
+    plain = planetary_tsa(x, spc, zr, zp, n_pl, planet=0, window_teeth=8)
+    flat = planetary_tsa(x, spc, zr, zp, n_pl, planet=0, window_teeth=8, detrend=2)
+
+    def low(a):
+        return np.max(np.abs(np.fft.rfft(a - a.mean()))[1:4] * 2 / a.size)
+
+    assert low(plain) > 0.3
+    assert low(flat) < 0.05
+    assert int(np.argmax(flat)) == pytest.approx(5 * spt, abs=2)
+    assert flat.max() - np.median(flat) > 0.7

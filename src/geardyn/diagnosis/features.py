@@ -482,7 +482,7 @@ def _planetary_components(
         sensor = s0 - TWO_PI * (offset % spc) / spc
         for wt in dict.fromkeys((2, max(2, zr // (2 * n)), max(2, zr // n))):
             try:
-                t = planetary_tsa(seg, spc, zr, teeth, n, planet, psi, sensor, wt)
+                t = planetary_tsa(seg, spc, zr, teeth, n, planet, psi, sensor, wt, detrend=2)
             except InputError:
                 continue
             return np.roll(t, offset % t.size)

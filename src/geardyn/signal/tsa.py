@@ -144,6 +144,7 @@ def planetary_tsa(
     planet_angles: np.ndarray | None = None,
     sensor_angle: float = 0.0,
     window_teeth: int = 2,
+    detrend: int | None = None,
 ) -> np.ndarray:
     """Planet-separated TSA (McFadden's window technique) of a ring-sensor signal sampled at
     ``samples_per_carrier_rev`` per carrier revolution (ring fixed).
@@ -158,6 +159,11 @@ def planetary_tsa(
     the summed window) gives one revolution of that gear with ``gear_teeth × samples per
     ring-mesh period`` samples. ``samples_per_carrier_rev`` must be a multiple of ``ring_teeth``.
     Revolutions of the gear that are never visited (few carrier revolutions) raise an error.
+    ``detrend``: polynomial degree (0: mean, 2: mean, slope and curvature) removed from each
+    piece by window-weighted least squares before averaging, so that the level changes between
+    passes and the planet-pass lobe of the transfer path (seed 003 eq 4.10) do not leave steps —
+    low orders that dominate the difference signal when few pieces cover each tooth.
+    None (default): pieces as they are.
     """
     a = array1d("x", x, 4)
     spc = positive_int("samples_per_carrier_rev", samples_per_carrier_rev, minimum=4)
@@ -188,7 +194,12 @@ def planetary_tsa(
         # The planet meshes with the ring once per ring-mesh period: the mesh count (in
         # samples) reached at sample c is c itself; its position in the gear frame is c mod m.
         idx = (np.arange(lo, hi)) % m
-        np.add.at(acc, idx, a[lo:hi] * win)
+        piece = a[lo:hi]
+        if detrend is not None:
+            u = np.linspace(-1.0, 1.0, piece.size)
+            coef = np.polyfit(u, piece, int(detrend), w=np.sqrt(win))
+            piece = piece - np.polyval(coef, u)
+        np.add.at(acc, idx, piece * win)
         np.add.at(wsum, idx, win)
     if np.any(wsum <= 1e-9):
         raise InputError(
