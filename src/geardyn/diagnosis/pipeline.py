@@ -33,6 +33,7 @@ from geardyn.errors import ConfigError, InputError
 
 if TYPE_CHECKING:
     from geardyn.config.loader import GeardynConfig
+    from geardyn.diagnosis.features import Features
     from geardyn.kinematics import CharacteristicFrequencies
 
 #: ``progress(message, fraction)``: what is being done and the overall fraction done (0–1).
@@ -121,7 +122,8 @@ def operating_frequencies(
     return characteristic_frequencies(kin, inputs, order_reference=ref)
 
 
-def _features(ds: xr.Dataset, cfg: GeardynConfig, channel: str, opts: DiagnosisSpec) -> Any:
+def _features(ds: xr.Dataset, cfg: GeardynConfig, channel: str, opts: DiagnosisSpec
+              ) -> Features:
     from geardyn.diagnosis.features import features_from_result
 
     return features_from_result(ds, cfg, channel, reference=opts.reference,
@@ -132,8 +134,8 @@ def _finish(
     cfg: GeardynConfig,
     out: Path,
     opts: DiagnosisSpec,
-    baseline: list[Any],
-    record: Any,
+    baseline: list[Features],
+    record: Features,
     record_ds: xr.Dataset,
     channel: str,
     info: tuple[dict[str, Any], dict[str, Any]],
@@ -141,18 +143,17 @@ def _finish(
 ) -> Verdict:
     """Reference residuals (if asked), thresholds, verdict, verdict.json and report.html from
     the features."""
-    from geardyn.diagnosis.components import machine_components
     from geardyn.diagnosis.features import with_reference_residuals
 
     if opts.reference_residuals:
         baseline, record = with_reference_residuals(baseline, record)
     rule = ThresholdRule(k=opts.threshold_k, sigma_floor=opts.sigma_floor)
     th = thresholds([f.table for f in baseline], rule)
-    items = machine_components(cfg, record.reference).items if record.reference else []
+    items = record.components.items if record.components is not None else []
     verdict = judge(record.table, th, rule, machine=cfg.name, baseline=info[0],
                     record_info=info[1], expected_faults=expected,
                     components=[(c.name, c.kind) for c in items],
-                    notes=getattr(record, "notes", []))
+                    notes=record.notes)
     verdict.write(out)
     shaft = str(record_ds[f"sensors.{channel}"].attrs.get("shaft", "")) or None
     freqs = operating_frequencies(cfg, record_ds, opts.reference or shaft, opts.skip_s)

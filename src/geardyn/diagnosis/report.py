@@ -30,6 +30,7 @@ import xarray as xr
 from geardyn.diagnosis.verdict import Verdict
 
 if TYPE_CHECKING:
+    from geardyn.diagnosis.features import Features
     from geardyn.kinematics import CharacteristicFrequencies
 
 _CSS = """
@@ -359,7 +360,7 @@ def _figures(items: Iterable[tuple[str, Any]]) -> list[str]:
             for alt, fig in items]
 
 
-def spectra_section(record: Any, healthy: Any | None,
+def spectra_section(record: Features, healthy: Features | None,
                     freqs: CharacteristicFrequencies | None) -> str:
     """Annotated order spectrum and envelope spectrum (record against healthy)."""
     parts: list[str] = []
@@ -389,7 +390,7 @@ def spectra_section(record: Any, healthy: Any | None,
     return _section("Spectra", *parts) if parts else ""
 
 
-def tsa_section(record: Any, healthy: Any | None, verdict: Verdict) -> str:
+def tsa_section(record: Features, healthy: Features | None, verdict: Verdict) -> str:
     """TSA of every component (record with the healthy baseline behind)."""
     tsas: dict[str, xr.DataArray] = getattr(record, "tsa", None) or {}
     base: dict[str, xr.DataArray] = getattr(healthy, "tsa", None) or {}
@@ -401,8 +402,8 @@ def tsa_section(record: Any, healthy: Any | None, verdict: Verdict) -> str:
     return _section("Time-synchronous averages", *_figures(figs)) if figs else ""
 
 
-def time_frequency_section(ds: Any | None, channel: str | None, record: Any, verdict: Verdict,
-                           fmax: float | None, teeth: dict[str, int]) -> str:
+def time_frequency_section(ds: xr.Dataset | None, channel: str | None, record: Features,
+                           verdict: Verdict, fmax: float | None, teeth: dict[str, int]) -> str:
     """Spectrogram of the record channel and CWT of the TSA of the worst component."""
     parts = []
     if ds is not None and channel:
@@ -431,9 +432,9 @@ def _worst_component(verdict: Verdict, names: Sequence[str]) -> str | None:
 def write_report(
     out_dir: str | Path,
     verdict: Verdict,
-    record: Any,
+    record: Features,
     *,
-    healthy: Any | None = None,
+    healthy: Features | None = None,
     freqs: CharacteristicFrequencies | None = None,
     record_ds: xr.Dataset | None = None,
     channel: str | None = None,
