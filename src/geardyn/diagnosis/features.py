@@ -474,17 +474,23 @@ def _planetary_components(
     members = [c for c in comps.items if c.stage == st.name and c.kind in ("sun", "planet")]
     nb, rpb = _blocks(n_rev, ctx.n_blocks)
 
+    used: dict[str, int] = {}
+
     def windowed(seg: np.ndarray, teeth: int, planet: int, start: int) -> np.ndarray | None:
         """Planet-window TSA of ``seg`` (whose first sample is ``start`` samples after the
         first of ``xs``): the sensor angle is shifted to the segment's own-angle origin and
-        the result rolled so that index 0 is mesh count 0 (carrier angle 0)."""
+        the result rolled so that index 0 is mesh count 0 (carrier angle 0). Window widths
+        2, Z_r/(4N) and Z_r/(2N) ring-mesh periods are tried in turn (the first that covers
+        every tooth); none spans more than half a planet-pass lobe, so the windows stay away
+        from the lobe edges where the neighbouring planets take over."""
         offset = k0 + start  # own-angle step of the segment's first sample
         sensor = s0 - TWO_PI * (offset % spc) / spc
-        for wt in dict.fromkeys((2, max(2, zr // (2 * n)), max(2, zr // n))):
+        for wt in dict.fromkeys((2, max(2, zr // (4 * n)), max(2, zr // (2 * n)))):
             try:
                 t = planetary_tsa(seg, spc, zr, teeth, n, planet, psi, sensor, wt, detrend=2)
             except InputError:
                 continue
+            used["window_teeth"] = wt
             return np.roll(t, offset % t.size)
         return None
 
@@ -525,7 +531,12 @@ def _planetary_components(
         whole = windowed(xs[: n_rev * spc], teeth, planets[0], 0)
         if whole is not None:
             ctx.tsas[comp.name] = _tsa_array(
-                whole, comp, ctx.units, n_rev, f"planet-window TSA (planet {planets[0]})"
+                whole,
+                comp,
+                ctx.units,
+                n_rev,
+                f"planet-window TSA (planet {planets[0]}, windows of "
+                f"{used.get('window_teeth', 0)} ring-mesh periods)",
             )
         handled.add(comp.name)
     return handled
