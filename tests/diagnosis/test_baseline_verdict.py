@@ -37,7 +37,7 @@ def test_threshold_is_mean_plus_k_std_pooled_over_tables() -> None:
     # two seeds × 2 blocks: pooled 1, 3, 5, 7 → mean 4, sample std sqrt(20/3)
     a = table({("sun", "sun", "FM4"): [1.0, 3.0]})
     b = table({("sun", "sun", "FM4"): [5.0, 7.0]})
-    th = thresholds([a, b], ThresholdRule(k=3.0, sigma_floor=0.05))
+    th = thresholds([a, b], ThresholdRule(k=3.0, sigma_floor=0.05, small_sample=False))
     r = row(th, "sun", "FM4")
     s = math.sqrt(20.0 / 3.0)
     assert r["n"] == 4
@@ -46,6 +46,21 @@ def test_threshold_is_mean_plus_k_std_pooled_over_tables() -> None:
     assert r["sigma"] == pytest.approx(s)  # 5 % of 4 = 0.2 < s: no floor
     assert r["upper"] == pytest.approx(4.0 + 3.0 * s)
     assert math.isnan(r["lower"]) and r["direction"] == "upper" and r["usable"]
+
+
+def test_small_sample_threshold_is_the_student_prediction_bound() -> None:
+    # k = 1.6449 (one-sided 95 % for a known σ), n = 4: the bound is
+    # mean + t(3 dof, 0.95)·s·√(1 + 1/4) with t = 2.353 (t table, e.g. NIST e-Handbook
+    # §1.3.6.7.2); pooled 1, 3, 5, 7: mean 4, s = sqrt(20/3)
+    base = table({("sun", "sun", "FM4"): [1.0, 3.0, 5.0, 7.0]})
+    r = row(thresholds(base, ThresholdRule(k=1.6449, sigma_floor=0.0)), "sun", "FM4")
+    bound = 4.0 + 2.353 * math.sqrt(20.0 / 3.0) * math.sqrt(1.25)
+    assert r["upper"] == pytest.approx(bound, rel=2e-4)
+    # the factor fades with n (→ 1) and a single sample keeps only the floor
+    c = ThresholdRule().spread_factor(np.array([1, 3, 12, 1000]))
+    assert c[0] == 1.0 and c[1] > c[2] > c[3] > 1.0 and c[3] == pytest.approx(1.0, abs=0.01)
+    one = row(thresholds(table({("sun", "sun", "FM4"): [4.0]})), "sun", "FM4")
+    assert one["sigma"] == pytest.approx(0.2) and one["usable"]
 
 
 def test_sigma_floor_for_a_deterministic_baseline() -> None:
@@ -65,12 +80,13 @@ def test_sigma_floor_for_a_deterministic_baseline() -> None:
 
 def test_two_sided_indicator_alarms_below_the_band() -> None:
     base = table({("sun", "sun", "skewness"): [-0.1, 0.1, -0.1, 0.1]})
-    th = thresholds(base, ThresholdRule(k=3.0, sigma_floor=0.05))
+    rule = ThresholdRule(k=3.0, sigma_floor=0.05, small_sample=False)
+    th = thresholds(base, rule)
     r = row(th, "sun", "skewness")
     s = float(np.std([-0.1, 0.1, -0.1, 0.1], ddof=1))
     assert r["direction"] == "two-sided"
     assert r["lower"] == pytest.approx(-3 * s) and r["upper"] == pytest.approx(3 * s)
-    v = judge(table({("sun", "sun", "skewness"): [-1.0] * 3}), th, ThresholdRule())
+    v = judge(table({("sun", "sun", "skewness"): [-1.0] * 3}), th, rule)
     iv = v.components["sun"].indicators["skewness"]
     assert iv.alarm and iv.margin == pytest.approx(1.0 / (3 * s))
 
@@ -121,8 +137,9 @@ def test_component_not_analysed_is_unknown_with_the_reason() -> None:
 
 
 def test_alarm_on_the_shaft_of_the_faulty_wheel_is_not_unexpected() -> None:
-    base = table({("z42", "wheel", "SER"): [1.0, 1.1], ("z53", "wheel", "SER"): [1.0, 1.1],
-                  ("inter", "shaft", "FM4"): [3.0, 3.1]})
+    base = table({("z42", "wheel", "SER"): [1.0, 1.1, 1.0, 1.1],
+                  ("z53", "wheel", "SER"): [1.0, 1.1, 1.0, 1.1],
+                  ("inter", "shaft", "FM4"): [3.0, 3.1, 3.0, 3.1]})
     rec = table({("z42", "wheel", "SER"): [5.0], ("z53", "wheel", "SER"): [1.0],
                  ("inter", "shaft", "FM4"): [6.0]})
     rule = ThresholdRule()

@@ -6,12 +6,19 @@ value, block, channel``), e.g. one per simulation seed or measured healthy recor
 rows are pooled per ``(component, kind, indicator, channel)``: every block of whole revolutions
 of every baseline record is one sample.
 
-Rule (:class:`ThresholdRule`): with μ and s the mean and sample standard deviation (ddof = 1;
-0 for a single sample) of the pooled values,
+Rule (:class:`ThresholdRule`): with μ and s the mean and sample standard deviation (ddof = 1)
+of the n pooled values,
 
-* σ = max(s, f·|μ|) — the spread is floored at a fraction ``f`` (``sigma_floor``, default 5 %)
-  of the mean, so that a deterministic baseline (simulated, nearly identical seeds) does not
-  alarm on numerical noise;
+* small-sample correction: a healthy record is a new draw, not one of the n, and s is itself
+  uncertain, so s is scaled by c_n = t_{n−1}(Φ(k))·√(1 + 1/n) / k — the one-sided Gaussian
+  prediction bound μ + t·s·√(1 + 1/n) that a new healthy value exceeds with the probability
+  1 − Φ(k) (0.13 % for k = 3) that μ + kσ has for a known σ (NIST/SEMATECH e-Handbook of
+  Statistical Methods §7.2.6.3; Hahn & Meeker, *Statistical Intervals*, 1991, ch. 4).
+  c_n = 7.4 for n = 3, 2.0 for n = 6, 1.3 for n = 12, → 1 for large n; a single sample
+  (n = 1) has no spread estimate and keeps only the floor below;
+* σ = max(c_n·s, f·|μ|) — the spread is floored at a fraction ``f`` (``sigma_floor``, default
+  5 %) of the mean, so that a deterministic baseline (simulated, nearly identical seeds) does
+  not alarm on numerical noise;
 * upper threshold μ + k·σ (k = ``k``, default 3) for indicators where higher is worse;
 * for two-sided indicators (:data:`TWO_SIDED`, e.g. skewness, whose sign flips with the sense
   of an impact) also a lower threshold μ − k·σ.
@@ -44,10 +51,12 @@ NOT_JUDGED = frozenset({"speed_rpm", "speed_hz", "revolutions", "samples_per_rev
 
 @dataclass(frozen=True)
 class ThresholdRule:
-    """Threshold = μ + k·σ with σ = max(s, ``sigma_floor``·|μ|) (module docstring)."""
+    """Threshold = μ + k·σ with σ = max(c_n·s, ``sigma_floor``·|μ|), c_n the small-sample
+    factor (``small_sample=False``: c_n = 1) (module docstring)."""
 
     k: float = 3.0
     sigma_floor: float = 0.05
+    small_sample: bool = True
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.k) and self.k > 0):
@@ -59,11 +68,27 @@ class ThresholdRule:
 
     def describe(self) -> str:
         """One line stating the rule (for the report and verdict.json)."""
+        c = "c_n·std" if self.small_sample else "std"
+        cn = (f"; c_n = t_(n−1)(Φ({self.k:g}))·√(1 + 1/n)/{self.k:g} (one-sided prediction "
+              "bound for a new healthy record from n baseline samples)"
+              if self.small_sample else "")
         return (
             f"threshold = mean + {self.k:g}·σ over the pooled baseline blocks, "
-            f"σ = max(std, {self.sigma_floor:g}·|mean|); two-sided (mean ± {self.k:g}·σ) for "
-            f"{', '.join(sorted(TWO_SIDED))}"
+            f"σ = max({c}, {self.sigma_floor:g}·|mean|){cn}; two-sided (mean ± {self.k:g}·σ) "
+            f"for {', '.join(sorted(TWO_SIDED))}"
         )
+
+    def spread_factor(self, n: np.ndarray) -> np.ndarray:
+        """c_n for sample counts ``n`` (1 where n < 2: no spread estimate, or no correction)."""
+        n = np.asarray(n, dtype=float)
+        if not self.small_sample:
+            return np.ones_like(n)
+        from scipy.stats import norm
+        from scipy.stats import t as student
+
+        df = np.maximum(n - 1, 1)
+        c = student.ppf(norm.cdf(self.k), df) * np.sqrt(1 + 1 / np.maximum(n, 1)) / self.k
+        return np.where(n >= 2, c, 1.0)
 
 
 def direction(indicator: str) -> str:
@@ -116,8 +141,9 @@ def thresholds(
 
     Returns a DataFrame with the key columns and ``direction, n, mean, std, sigma, lower,
     upper, usable``: ``n`` pooled finite samples, ``std`` their sample standard deviation,
-    ``sigma`` the floored spread, ``upper`` = mean + k·sigma, ``lower`` = mean − k·sigma for
-    two-sided indicators (NaN otherwise). Indicators in :data:`NOT_JUDGED` are left out.
+    ``sigma`` the corrected and floored spread, ``upper`` = mean + k·sigma, ``lower`` =
+    mean − k·sigma for two-sided indicators (NaN otherwise). Indicators in
+    :data:`NOT_JUDGED` are left out.
     """
     rule = rule or ThresholdRule()
     rows = pool(baseline)
@@ -127,7 +153,8 @@ def thresholds(
     stats = rows.groupby(KEYS, sort=False)["value"].apply(_stats).unstack().reset_index()
     stats["n"] = stats["n"].astype(int)
     stats["direction"] = [direction(str(i)) for i in stats["indicator"]]
-    stats["sigma"] = np.maximum(stats["std"], rule.sigma_floor * stats["mean"].abs())
+    spread = rule.spread_factor(stats["n"].to_numpy()) * stats["std"]
+    stats["sigma"] = np.maximum(spread, rule.sigma_floor * stats["mean"].abs())
     stats["upper"] = stats["mean"] + rule.k * stats["sigma"]
     two = stats["direction"] == "two-sided"
     stats["lower"] = np.where(two, stats["mean"] - rule.k * stats["sigma"], np.nan)
