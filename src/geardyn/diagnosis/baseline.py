@@ -12,8 +12,8 @@ of the n pooled values,
 * small-sample correction: a healthy record is a new draw, not one of the n, and s is itself
   uncertain, so s is scaled by c_n = t_{n−1}(Φ(k))·√(1 + 1/n) / k — the one-sided Gaussian
   prediction bound μ + t·s·√(1 + 1/n) that a new healthy value exceeds with the probability
-  1 − Φ(k) (0.13 % for k = 3) that μ + kσ has for a known σ (NIST/SEMATECH e-Handbook of
-  Statistical Methods §7.2.6.3; Hahn & Meeker, *Statistical Intervals*, 1991, ch. 4).
+  1 − Φ(k) (0.13 % for k = 3) that μ + kσ has for a known σ (prediction interval for one
+  future observation of a normal sample: Hahn & Meeker, *Statistical Intervals*, 1991, ch. 4).
   c_n = 7.4 for n = 3, 2.0 for n = 6, 1.3 for n = 12, → 1 for large n; a single sample
   (n = 1) has no spread estimate and keeps only the floor below;
 * σ = max(c_n·s, f·|μ|) — the spread is floored at a fraction ``f`` (``sigma_floor``, default
