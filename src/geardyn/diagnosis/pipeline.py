@@ -34,6 +34,7 @@ from geardyn.errors import ConfigError, InputError
 if TYPE_CHECKING:
     from geardyn.config.loader import GeardynConfig
     from geardyn.diagnosis.features import Features
+    from geardyn.diagnosis.isolation import IsolationBlocks
     from geardyn.kinematics import CharacteristicFrequencies
 
 #: ``progress(message, fraction)``: what is being done and the overall fraction done (0–1).
@@ -130,6 +131,62 @@ def _features(ds: xr.Dataset, cfg: GeardynConfig, channel: str, opts: DiagnosisS
                                 skip_s=opts.skip_s, n_blocks=opts.blocks)
 
 
+def _blocks(ds: xr.Dataset, cfg: GeardynConfig, channel: str, opts: DiagnosisSpec
+            ) -> IsolationBlocks:
+    from geardyn.diagnosis.isolation import isolation_blocks
+
+    return isolation_blocks(ds, cfg, channel, reference=opts.reference, skip_s=opts.skip_s)
+
+
+def _run_signature(ds: xr.Dataset) -> tuple | None:
+    """Model, time grid and initial shaft speeds of a simulated run (None for other files):
+    runs with one signature follow one operating profile revolution by revolution."""
+    from geardyn.results import is_result
+
+    if not is_result(ds) or ds.attrs.get("model") not in ("planetary", "transmission"):
+        return None
+    t = ds["time"].values
+    w0 = tuple(round(float(v), 6) for v in ds["speed"].isel(time=0).values)
+    return (str(ds.attrs["model"]), t.size, round(float(t[0]), 9), round(float(t[-1]), 9), w0)
+
+
+def judge_features(
+    cfg: GeardynConfig,
+    opts: DiagnosisSpec,
+    baseline: list[Features],
+    record: Features,
+    *,
+    baseline_blocks: Sequence[IsolationBlocks] | None = None,
+    record_blocks: IsolationBlocks | None = None,
+    aligned: bool = True,
+    info: tuple[dict[str, Any], dict[str, Any]] | None = None,
+    expected: list[ConfiguredFault] | None = None,
+) -> Verdict:
+    """Verdict of ``record`` against the healthy ``baseline`` features: reference residuals
+    (if asked), thresholds, detection per component, then isolation
+    (:mod:`geardyn.diagnosis.isolation`: synchronous deviation ratio per rotating component
+    from the per-revolution blocks — ``aligned`` for runs of one operating profile — and
+    line-family shares per bearing). Returns ``(baseline, record)`` features as used."""
+    from geardyn.diagnosis.features import with_reference_residuals
+    from geardyn.diagnosis.isolation import bearing_evidence, isolate, sdr_evidence
+
+    if opts.reference_residuals:
+        baseline, record = with_reference_residuals(baseline, record)
+    rule = ThresholdRule(k=opts.threshold_k, sigma_floor=opts.sigma_floor)
+    th = thresholds([f.table for f in baseline], rule)
+    items = record.components.items if record.components is not None else []
+    verdict = judge(record.table, th, rule, machine=cfg.name,
+                    baseline=(info or ({}, {}))[0], record_info=(info or ({}, {}))[1],
+                    expected_faults=expected, components=[(c.name, c.kind) for c in items],
+                    notes=record.notes)
+    evidence = bearing_evidence(baseline, record)
+    if record_blocks is not None and baseline_blocks is not None and len(baseline_blocks) >= 2:
+        evidence.update(sdr_evidence(baseline_blocks, record_blocks, k=opts.threshold_k,
+                                     aligned=aligned))
+    isolate(verdict, evidence, record.components)
+    return verdict
+
+
 def _finish(
     cfg: GeardynConfig,
     out: Path,
@@ -140,20 +197,14 @@ def _finish(
     channel: str,
     info: tuple[dict[str, Any], dict[str, Any]],
     expected: list[ConfiguredFault] | None,
+    blocks: tuple[list[IsolationBlocks], IsolationBlocks] | None = None,
+    aligned: bool = True,
 ) -> Verdict:
-    """Reference residuals (if asked), thresholds, verdict, verdict.json and report.html from
-    the features."""
-    from geardyn.diagnosis.features import with_reference_residuals
-
-    if opts.reference_residuals:
-        baseline, record = with_reference_residuals(baseline, record)
-    rule = ThresholdRule(k=opts.threshold_k, sigma_floor=opts.sigma_floor)
-    th = thresholds([f.table for f in baseline], rule)
-    items = record.components.items if record.components is not None else []
-    verdict = judge(record.table, th, rule, machine=cfg.name, baseline=info[0],
-                    record_info=info[1], expected_faults=expected,
-                    components=[(c.name, c.kind) for c in items],
-                    notes=record.notes)
+    """Verdict (:func:`judge_features`), verdict.json and report.html from the features."""
+    verdict = judge_features(cfg, opts, baseline, record,
+                             baseline_blocks=blocks[0] if blocks else None,
+                             record_blocks=blocks[1] if blocks else None, aligned=aligned,
+                             info=info, expected=expected)
     verdict.write(out)
     shaft = str(record_ds[f"sensors.{channel}"].attrs.get("shaft", "")) or None
     freqs = operating_frequencies(cfg, record_ds, opts.reference or shaft, opts.skip_s)
@@ -200,6 +251,7 @@ def diagnose(
     healthy = healthy_variant(cfg)
     n = len(opts.baseline_seeds) + 1
     feats = []
+    blocks: list[IsolationBlocks] = []
     for i, seed in enumerate(opts.baseline_seeds):
         what = f"healthy baseline, seed {seed}"
 
@@ -211,6 +263,7 @@ def diagnose(
         ch = _channel(ds, opts.channel, what)
         _say(progress, f"indicators of {what}", (i + 0.9) / n)
         feats.append(_features(ds, cfg, ch, opts))
+        blocks.append(_blocks(ds, cfg, ch, opts))
         del ds
     what = f"record (configured faults), seed {opts.record_seed}"
     rec_ds = run_simulation(cfg, seed=opts.record_seed, t_end_s=opts.t_end_s,
@@ -220,11 +273,13 @@ def diagnose(
     ch = _channel(rec_ds, opts.channel, what)
     _say(progress, f"indicators of the {what}", (n - 0.1) / n)
     record = _features(rec_ds, cfg, ch, opts)
+    rec_blocks = _blocks(rec_ds, cfg, ch, opts)
     _say(progress, "verdict and report", 0.99)
     info = ({"seeds": list(opts.baseline_seeds), "blocks": opts.blocks,
              "t_end_s": opts.t_end_s, "skip_s": opts.skip_s},
             {"seed": opts.record_seed, "t_end_s": opts.t_end_s})
-    verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, fault_list(cfg))
+    verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, fault_list(cfg),
+                      blocks=(blocks, rec_blocks), aligned=True)
     _say(progress, "done", 1.0)
     return verdict
 
@@ -267,17 +322,26 @@ def diagnose_files(
     out = check_output_dir(out_dir)
     n = len(baseline_paths) + 1
     feats = []
+    blocks: list[IsolationBlocks] = []
+    starts: list[tuple | None] = []
     for i, path in enumerate(baseline_paths):
         what = f"baseline file '{path}'"
         _say(progress, f"indicators of {what}", i / n)
         ds = _open(path, "baseline")
-        feats.append(_features(ds, cfg, _channel(ds, opts.channel, what), opts))
+        ch = _channel(ds, opts.channel, what)
+        feats.append(_features(ds, cfg, ch, opts))
+        blocks.append(_blocks(ds, cfg, ch, opts))
+        starts.append(_run_signature(ds))
     _say(progress, f"indicators of record '{record_path}'", (n - 1) / n)
     rec_ds = _open(record_path, "record")
     ch = _channel(rec_ds, opts.channel, f"record '{record_path}'")
     record = _features(rec_ds, cfg, ch, opts)
+    rec_blocks = _blocks(rec_ds, cfg, ch, opts)
     info = ({"files": [str(p) for p in baseline_paths], "blocks": opts.blocks,
              "skip_s": opts.skip_s}, {"file": str(record_path)})
-    verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, None)
+    # revolution-by-revolution comparison only for simulated runs of one operating profile
+    aligned = None not in starts and len(set(starts + [_run_signature(rec_ds)])) == 1
+    verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, None,
+                      blocks=(blocks, rec_blocks), aligned=aligned)
     _say(progress, "done", 1.0)
     return verdict
