@@ -250,7 +250,7 @@ def test_tsa_angles_are_own_angles_whatever_the_record_start(comps, seed004):
 
 
 def test_ring_fault_seen_in_the_carrier_angle_tsa(seed004):
-    """Ring fault at 60°: measured ring FM4 3.0 healthy → 5.0, planets and sun 2.8–2.9 (the
+    """Ring fault at 60°: measured ring FM4 3.0 healthy → 5.0, planets 2.78–2.91, sun 3.01 (the
     planet-pass sidebands k·Z_r → multiples of N are counted as regular meshing, so the
     healthy ring's FM4 stays Gaussian-like). Asserted: ring > 4.2, planets and sun < 3.6."""
     healthy, _ = _fm4(seed004, ring_signal(4))

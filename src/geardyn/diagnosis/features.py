@@ -16,11 +16,11 @@ per block of whole revolutions:
   (:func:`geardyn.signal.indicators.wheel_indicators`: SER after Hanna et al. 2011, sideband
   kurtosis, NB4 restricted to the wheel; combination tones are not left out of the sidebands,
   which would cost most of the sensitivity — the healthy baseline carries them);
-* **sun, planets, ring**: with a ring accelerometer on a fixed ring, planet-separated TSA by
-  McFadden's window technique (:func:`geardyn.signal.planetary_tsa`; per planet, and for the
-  sun averaged over the planet windows); otherwise the TSA in the component's own angle
-  relative to the carrier (seed 004 §8.2 averages per component revolution); same indicators
-  as a shaft with the component's tooth count; for the ring the regular meshing also holds
+* **sun, planets, ring**: TSA in the component's own angle relative to the carrier (seed 004
+  §8.2 averages per component revolution); with a ring accelerometer on a fixed ring, the
+  planets instead get planet-separated TSA by McFadden's window technique
+  (:func:`geardyn.signal.planetary_tsa`, one per planet); same indicators as a shaft with the
+  component's tooth count; for the ring the regular meshing also holds
   the planet-pass orders (multiples of N next to ``h·Z_r``, seed 003 §4.1);
 * **bearings**: squared-envelope spectrum in orders of the reference (band of maximum
   spectral kurtosis, Antoni 2007, from the STFT kurtogram :mod:`geardyn.signal.kurtogram`,
@@ -450,8 +450,8 @@ def _safe_dict(fn: Callable[[], dict[str, float]], keys: tuple[str, ...]) -> dic
 def _planetary_components(
     ctx: _Ctx, comps: Components, stage_name: str, sensor_angle: float
 ) -> set[str]:
-    """Planet-separated TSA (McFadden window technique) of the sun, each planet and the ring of
-    a fixed-ring stage seen by a ring accelerometer. Returns the components handled."""
+    """Planet-separated TSA (McFadden window technique) of each planet of a fixed-ring stage
+    seen by a ring accelerometer. Returns the components handled."""
     st = next((s for s in comps.planetary if s.name == stage_name), None)
     if st is None or not st.ring_fixed:
         ctx.notes.append(
@@ -459,7 +459,6 @@ def _planetary_components(
         )
         return set()
     zr, n = st.ring_teeth, st.n_planets
-    stepped = st.planet_sun_teeth != st.planet_ring_teeth
     xs, spc, k0 = ctx.own(abs(st.ring_ratio), zr)
     n_rev = xs.size // spc
     if n_rev < 1:
@@ -471,7 +470,12 @@ def _planetary_components(
     if st.ring_ratio > 0:  # θ_c − θ_r decreases as θ_ref grows: u = −(θ_c − θ_r)
         s0, psi = -s0, np.mod(-psi, TWO_PI)
     handled: set[str] = set()
-    members = [c for c in comps.items if c.stage == st.name and c.kind in ("sun", "planet")]
+    # Planets only: the sun meets every planet, so its fault needs no planet separation, and
+    # its own angle relative to the carrier turns Z_r/Z_s times per carrier revolution — its
+    # own-angle TSA averages that many more revolutions than the planet windows collect
+    # (measured on a seed 004 sun crack, 10 carrier revolutions: z = 142 on ER own-angle,
+    # 2.3–7.7 planet-window).
+    members = [c for c in comps.items if c.stage == st.name and c.kind == "planet"]
     nb, rpb = _blocks(n_rev, ctx.n_blocks)
 
     used: dict[str, int] = {}
@@ -495,10 +499,10 @@ def _planetary_components(
         return None
 
     for comp in members:
-        if comp.kind == "sun" and stepped:
-            continue  # sun and ring meshes differ in count: own-angle TSA instead
         teeth = int(comp.teeth or comp.mesh_orders[0])
-        planets = list(range(n)) if comp.kind == "sun" else [int(comp.planet or 0)]
+        if teeth != st.planet_ring_teeth:
+            continue  # sun-side wheel of a stepped planet: not in the ring-mesh count frame
+        planets = [int(comp.planet or 0)]
         hist_res: dict[int, list[np.ndarray]] = {p: [] for p in planets}
         hist_tsa: dict[int, list[np.ndarray]] = {p: [] for p in planets}
         ok = True
