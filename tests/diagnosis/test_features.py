@@ -200,9 +200,9 @@ def _fm4(comps, sig):
 
 def test_planet_window_tsa_localises_the_faulty_planet(seed004):
     """McFadden's window technique on the ring channel: measured FM4 (median of 4 blocks of
-    6 carrier revolutions) healthy 2.95–3.12 for every planet; with a fault on planet 2
-    (index 1) 4.9 on planet 2, the others and the sun unchanged (3.0–3.1). Asserted: planet 2
-    > 4.2, every other planet/sun/ring < 3.6."""
+    6 carrier revolutions) healthy 2.99–3.12 for every planet; with a fault on planet 2
+    (index 1) 4.99 on planet 2, the other planets unchanged (3.02–3.12), the sun (own-angle
+    TSA) 2.84, the ring 3.02. Asserted: planet 2 > 4.2, every other planet/sun/ring < 3.6."""
     healthy, fh = _fm4(seed004, ring_signal(3))
     faulty, ff = _fm4(seed004, ring_signal(3, planet_fault=1))
     planets = [c.name for c in seed004.of_kind("planet")]
