@@ -222,3 +222,14 @@ def test_healthy_variant_and_fault_list_transmission() -> None:
     assert got == {("intermediate/z42", "wheel", "intermediate"),
                    ("output roller", "bearing", "output")}
     assert fault_list(healthy_variant(cfg)) == []
+
+
+def test_margin_of_a_negative_threshold_exceeds_one_only_on_alarm() -> None:
+    base = table({("sun", "sun", "FM4"): [-2.0, -2.2, -1.8, -2.0]})
+    rule = ThresholdRule(small_sample=False)
+    th = thresholds(base, rule)
+    assert row(th, "sun", "FM4")["upper"] < 0
+    low = judge(table({("sun", "sun", "FM4"): [-3.0]}), th, rule).components["sun"]
+    high = judge(table({("sun", "sun", "FM4"): [0.0]}), th, rule).components["sun"]
+    assert low.state == "healthy" and low.indicators["FM4"].margin < 0
+    assert high.state == "alarm" and high.indicators["FM4"].margin > 1

@@ -6,8 +6,9 @@ the band of a two-sided one); a component is ``alarm`` when any of its indicator
 ``healthy`` when it has at least one usable indicator and none alarms, and ``unknown`` when no
 indicator of it could be judged (no value, or no usable baseline threshold).
 
-Margin: ``value / threshold`` for higher-is-worse indicators (> 1 ⇔ alarm); for two-sided
-indicators, and for a threshold ≤ 0, ``|value − mean| / (k·σ)`` (> 1 ⇔ alarm as well).
+Margin: ``value / threshold`` for higher-is-worse indicators (> 1 ⇔ alarm); for a threshold
+≤ 0, ``(value − mean) / (k·σ)``; for two-sided indicators ``|value − mean| / (k·σ)`` (> 1 ⇔
+alarm in every case).
 
 :meth:`Verdict.write` stores ``verdict.json`` (schema ``geardyn.verdict/1``, see
 docs/diagnosis.md).
@@ -185,9 +186,12 @@ def _clean(obj: Any) -> Any:
 
 
 def _margin(value: float, th: pd.Series, k: float) -> float:
-    if th["direction"] == "upper" and th["upper"] > 0:
-        return value / float(th["upper"])
-    return abs(value - float(th["mean"])) / (k * float(th["sigma"]))
+    """value/threshold (upper, threshold > 0); (value − μ)/(kσ) (upper, threshold ≤ 0);
+    |value − μ|/(kσ) (two-sided): > 1 exactly when the indicator alarms."""
+    dev = (value - float(th["mean"])) / (k * float(th["sigma"]))
+    if th["direction"] == "upper":
+        return value / float(th["upper"]) if th["upper"] > 0 else dev
+    return abs(dev)
 
 
 def _alarm(value: float, th: pd.Series) -> bool:
