@@ -303,7 +303,8 @@ def verdict_section(verdict: Verdict) -> str:
     notes = "".join(f"<li>{html.escape(n)}</li>" for n in verdict.notes)
     return _section("Verdict", f"<p><b>{html.escape(line)}</b></p>", table,
                     _note(verdict.rule.describe()),
-                    f"<p>Not judged:</p><ul>{notes}</ul>" if notes else "")
+                    f"<p>Notes (components not analysed, isolation):</p><ul>{notes}</ul>"
+                    if notes else "")
 
 
 def machine_section(verdict: Verdict) -> str:
