@@ -54,7 +54,7 @@ def run() -> list[dict]:
          "target": "", "met": ""},
         {"case": "  features of one run (all components)", "measured": f"{t_feat:.2f} s wall",
          "target": "", "met": ""},
-        {"case": "  rest (thresholds, verdict, report.html)",
+        {"case": "  rest (isolation blocks, thresholds, verdict, report)",
          "measured": f"{t_all - n_runs * (t_sim + t_feat):.2f} s wall ({html_kb:.0f} kB page)",
          "target": "", "met": ""},
         {"case": "verdict", "measured": f"alarms {verdict.alarms}; sun worst "
