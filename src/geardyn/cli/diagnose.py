@@ -49,6 +49,8 @@ def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verd
                   f"[{_STYLE[r['state']]}]{r['state']}[/]", escape(str(r["worst_indicator"])),
                   f"{m:.3g}" if math.isfinite(m) else "–")
     console.print(t)
+    for note in verdict.notes:
+        console.print(f"[dim]note: {escape(note)}[/]")
     s = verdict.summary()
     console.print(f"alarm on: [bold red]{escape(', '.join(s['alarms']))}[/]" if s["alarms"]
                   else "[green]no component in alarm[/]")
