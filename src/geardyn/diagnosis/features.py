@@ -484,12 +484,13 @@ def _planetary_components(
         """Planet-window TSA of ``seg`` (whose first sample is ``start`` samples after the
         first of ``xs``): the sensor angle is shifted to the segment's own-angle origin and
         the result rolled so that index 0 is mesh count 0 (carrier angle 0). Window widths
-        2, Z_r/(4N) and Z_r/(2N) ring-mesh periods are tried in turn (the first that covers
-        every tooth); none spans more than half a planet-pass lobe, so the windows stay away
-        from the lobe edges where the neighbouring planets take over."""
+        Z_r/(2N), Z_r/(4N) and 2 ring-mesh periods are tried in turn (the widest averages the
+        most pieces per tooth; narrower ones when it leaves a tooth uncovered); none spans
+        more than half a planet-pass lobe, so the windows stay away from the lobe edges where
+        the neighbouring planets take over."""
         offset = k0 + start  # own-angle step of the segment's first sample
         sensor = s0 - TWO_PI * (offset % spc) / spc
-        for wt in dict.fromkeys((2, max(2, zr // (4 * n)), max(2, zr // (2 * n)))):
+        for wt in dict.fromkeys((max(2, zr // (2 * n)), max(2, zr // (4 * n)), 2)):
             try:
                 t = planetary_tsa(seg, spc, zr, teeth, n, planet, psi, sensor, wt, detrend=2)
             except InputError:
