@@ -264,6 +264,32 @@ def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None) -> Any 
     return fig
 
 
+_STATE_COLOURS = {"alarm": "tab:red", "healthy": "tab:green", "unknown": "0.7"}
+
+
+def margin_figure(verdict: Verdict) -> Any | None:
+    """Horizontal bars: every indicator margin of each component (dots) and its worst one
+    (bar, coloured by the component's state), log scale, alarm line at margin 1."""
+    rows = [(name, c) for name, c in verdict.components.items()]
+    if not any(c.indicators for _, c in rows):
+        return None
+    fig, ax = _axes((10, 0.35 * len(rows) + 1.2))
+    for i, (_, c) in enumerate(rows):
+        m = np.array([v.margin for v in c.indicators.values()], float)
+        m = m[np.isfinite(m) & (m > 0)]
+        if m.size:
+            ax.barh(i, m.max(), color=_STATE_COLOURS[c.state], alpha=0.6)
+            ax.plot(m, np.full(m.size, i), "k.", ms=3)
+    ax.axvline(1.0, color="k", lw=0.8, ls="--", label="threshold (margin 1)")
+    ax.set_xscale("log")
+    ax.set_yticks(range(len(rows)), [f"{n} ({c.state})" for n, c in rows], fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("margin value/threshold [-]")
+    ax.set_title("Indicator margins per component (bar: worst; dots: every indicator)")
+    ax.legend(loc="lower right", fontsize=7)
+    return fig
+
+
 def kurtogram_figure(kurtogram: xr.DataArray) -> Any | None:
     """Kurtogram (spectral kurtosis over frequency band and level), if two-dimensional."""
     if kurtogram is None or kurtogram.ndim != 2:
@@ -301,7 +327,9 @@ def verdict_section(verdict: Verdict) -> str:
             f"missed: {', '.join(s['missed']) or 'none'}, "
             f"unexpected: {', '.join(s['unexpected']) or 'none'}.")
     notes = "".join(f"<li>{html.escape(n)}</li>" for n in verdict.notes)
+    chart = margin_figure(verdict)
     return _section("Verdict", f"<p><b>{html.escape(line)}</b></p>", table,
+                    *(_figures([("margins per component", chart)]) if chart else []),
                     _note(verdict.rule.describe()),
                     f"<p>Notes (components not analysed, isolation):</p><ul>{notes}</ul>"
                     if notes else "")
