@@ -1,11 +1,11 @@
 """The diagnosis report: one self-contained HTML page (``report.html``).
 
-Sections: verdict summary; machine, record, baseline and configured faults; kinematic tables
-(shaft speeds, meshes, wheel fault orders, bearing orders, planet pass); annotated order
-spectrum (healthy baseline against the record); TSA per component; envelope spectrum with the
-bearing and fault lines (and the kurtogram of the band choice); spectrogram of the channel and
-CWT of the TSA of the worst component; indicator table with thresholds (alarm cells
-highlighted) and the per-component verdict. Figures are embedded as PNG data URIs; the page
+Sections: verdict (table, margin chart, notes); machine, record, baseline and configured
+faults; kinematic tables (shaft speeds, meshes, wheel fault orders, bearing orders, planet
+pass); annotated order spectrum (healthy baseline against the record); envelope spectrum with
+the bearing and fault lines (and the kurtogram of the band choice); TSA per component;
+spectrogram of the channel and CWT of the TSA of the worst component; indicator table with
+thresholds (alarm cells highlighted). Figures are embedded as PNG data URIs; the page
 has no external file, stylesheet or script.
 
 The features objects are those of :func:`geardyn.diagnosis.features.features_from_result`
