@@ -233,3 +233,21 @@ def test_margin_of_a_negative_threshold_exceeds_one_only_on_alarm() -> None:
     high = judge(table({("sun", "sun", "FM4"): [0.0]}), th, rule).components["sun"]
     assert low.state == "healthy" and low.indicators["FM4"].margin < 0
     assert high.state == "alarm" and high.indicators["FM4"].margin > 1
+
+
+def test_isolation_evidence_is_reported_apart_from_the_worst_detection_indicator() -> None:
+    from dataclasses import replace
+
+    from geardyn.diagnosis.verdict import is_isolation_measure
+
+    base = table({("sun", "sun", "FM4"): [3.0, 3.1, 2.9, 3.0]})
+    rule = ThresholdRule()
+    v = judge(table({("sun", "sun", "FM4"): [3.2]}), thresholds(base, rule), rule)
+    fm4 = v.components["sun"].indicators["FM4"]
+    v.components["sun"].indicators["SDR"] = replace(fm4, value=9.0, threshold=2.0, margin=4.5,
+                                                    alarm=True)
+    row_ = v.table().iloc[0]
+    assert row_["worst_indicator"] == "FM4" and row_["isolation"] == "SDR"
+    assert row_["isolation_margin"] == 4.5
+    assert [is_isolation_measure(n) for n in ("SDR", "SDR_TE", "BPFO share", "acc:SDR", "FM4",
+                                              "SER")] == [True, True, True, True, False, False]

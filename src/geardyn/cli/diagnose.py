@@ -37,17 +37,23 @@ def parse_seeds(text: str | None) -> list[int] | None:
     return seeds
 
 
+def _number(m: float) -> str:
+    return f"{m:.3g}" if math.isfinite(m) else "–"
+
+
 def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verdict
-    """Verdict table (component, kind, state, worst indicator, margin) and where the files are."""
+    """Verdict table (component, kind, state, worst indicator and its margin, isolation evidence
+    and its margin), the notes and where the files are."""
     t = Table(title=f"verdict: {verdict.machine} (channel {', '.join(verdict.channels)}, "
               f"k = {verdict.rule.k:g})", title_justify="left")
-    for c in ("component", "kind", "state", "worst indicator", "margin [-]"):
+    for c in ("component", "kind", "state", "worst indicator", "margin [-]", "isolation",
+              "margin [-] "):
         t.add_column(c, justify="right" if c.startswith("margin") else "left")
     for _, r in verdict.table().iterrows():
-        m = r["margin"]
         t.add_row(escape(str(r["component"])), r["kind"],
                   f"[{_STYLE[r['state']]}]{r['state']}[/]", escape(str(r["worst_indicator"])),
-                  f"{m:.3g}" if math.isfinite(m) else "–")
+                  _number(r["margin"]), escape(str(r["isolation"])),
+                  _number(r["isolation_margin"]))
     console.print(t)
     for note in verdict.notes:
         console.print(f"[dim]note: {escape(note)}[/]")

@@ -315,7 +315,8 @@ def verdict_section(verdict: Verdict) -> str:
     df = verdict.table()
     states = list(df["state"])
     headers = {"component": "component", "kind": "kind", "state": "state",
-               "worst_indicator": "worst indicator", "margin": "margin value/threshold [-]"}
+               "worst_indicator": "worst indicator", "margin": "margin value/threshold [-]",
+               "isolation": "isolation evidence", "isolation_margin": "evidence margin [-]"}
     table = html_table(df, headers, lambda i, c: states[i] if c == "state" else "")
     s = verdict.summary()
     line = (f"Alarm on: {', '.join(s['alarms'])}." if s["alarms"]

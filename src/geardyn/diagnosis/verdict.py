@@ -67,9 +67,25 @@ class ComponentVerdict:
 
     @property
     def worst(self) -> tuple[str, float] | None:
-        """``(indicator, margin)`` with the largest finite margin, or None."""
-        items = [(k, v.margin) for k, v in self.indicators.items() if math.isfinite(v.margin)]
+        """``(indicator, margin)`` of the detection indicator (isolation evidence excluded)
+        with the largest finite margin, or None."""
+        items = [(k, v.margin) for k, v in self.indicators.items()
+                 if math.isfinite(v.margin) and not is_isolation_measure(k)]
         return max(items, key=lambda kv: kv[1]) if items else None
+
+    @property
+    def isolation(self) -> tuple[str, float] | None:
+        """``(measure, margin)`` of the isolation evidence (:data:`isolation measure
+        <is_isolation_measure>`) that decided the state, or None."""
+        items = [(k, v.margin) for k, v in self.indicators.items() if is_isolation_measure(k)]
+        return max(items, key=lambda kv: kv[1]) if items else None
+
+
+def is_isolation_measure(name: str) -> bool:
+    """True for the evidence that :func:`geardyn.diagnosis.isolation.isolate` adds: the
+    synchronous deviation ratios ``SDR``/``SDR_*`` and bearing line shares ``'<LINE> share'``."""
+    key = name.rpartition(":")[2]
+    return key == "SDR" or key.startswith("SDR_") or key.endswith(" share")
 
 
 @dataclass
@@ -112,15 +128,18 @@ class Verdict:
         return out
 
     def table(self) -> pd.DataFrame:
-        """One row per component: ``component, kind, state, worst_indicator, margin``."""
+        """One row per component: ``component, kind, state, worst_indicator, margin,
+        isolation, isolation_margin`` (worst indicator of all; isolation evidence if any)."""
         rows = []
         for name, c in self.components.items():
-            w = c.worst
+            w, iso = c.worst, c.isolation
             rows.append({"component": name, "kind": c.kind, "state": c.state,
                          "worst_indicator": w[0] if w else "",
-                         "margin": w[1] if w else math.nan})
+                         "margin": w[1] if w else math.nan,
+                         "isolation": iso[0] if iso else "",
+                         "isolation_margin": iso[1] if iso else math.nan})
         return pd.DataFrame(rows, columns=["component", "kind", "state", "worst_indicator",
-                                           "margin"])
+                                           "margin", "isolation", "isolation_margin"])
 
     def indicator_table(self) -> pd.DataFrame:
         """One row per judged indicator: component, kind, indicator, channel, value, mean, std,
