@@ -280,7 +280,7 @@ def test_fe_transmission_result_layout_and_analyze(tmp_path, examples_dir):
     ds = xr.load_dataset(out)
     assert results.is_result(ds) and ds.attrs["model"] == "transmission"
     assert results.channels(ds) == ["acc_output", "enc_output", "enc_intermediate",
-                                    "tacho_output"]
+                                    "te_low", "te_high", "tacho_output"]
     assert list(ds.link.values) == ["output", "intermediate", "input"]
     f = ds.bearing_force.where(ds.time > 0.1, drop=True).mean("time")  # (bearing, axis)
     total = np.hypot(*f.sum("bearing").values)
@@ -295,5 +295,37 @@ def test_fe_transmission_result_layout_and_analyze(tmp_path, examples_dir):
         assert r.exit_code == 0, r.output
     r = runner.invoke(app, ["analyze", str(out), "-c", str(cfg_path), "--out",
                             str(tmp_path / "x")])
-    assert r.exit_code == 2 and "acc_output, enc_output, enc_intermediate, tacho_output" in \
-        r.output
+    assert r.exit_code == 2 and "acc_output, enc_output, enc_intermediate, te_low" in r.output
+
+
+def test_transmission_error_sensor_closed_form():
+    """Encoder-pair TE, TE = θ_a − (z_b/z_a)·θ_b: shafts turning at 42:55 with a torsional
+    oscillation A sin(2πft) on wheel a (f ≪ edge rate) give TE = A sin(2πft) − its mean, to the
+    linear interpolation between edges (error ≤ A(2πf/edge rate)²/8 ≈ 1e-9 rad here) and the
+    80 MHz clock (each edge within one tick: ≤ (ω_a + (z_b/z_a)|ω_b|)/f_clock = 1.26e-6 rad).
+    """
+    from geardyn.sensors.channels import SensorContext, apply_sensors
+
+    t = np.linspace(0.0, 2.0, 200_001)
+    w_a, amp, f = 2 * np.pi * 8.0, 2e-5, 30.0
+    th_a = w_a * t + amp * np.sin(2 * np.pi * f * t)
+    th_b = -(42 / 55) * w_a * t  # counter-rotating wheel b
+    speed = np.stack([np.gradient(th_a, t), np.gradient(th_b, t)], axis=1)
+    ds = xr.Dataset(results.shaft_variables(t, ["pin", "gear"], np.stack([th_a, th_b], 1), speed),
+                    coords={"time": t, "shaft": ["pin", "gear"]})
+    results.finish(ds, "test", "pin")
+    spec = geardyn.config.loader.SensorSpec(name="te", kind="transmission_error", pair="p",
+                                             pulses_per_rev=1000, clock_hz=80e6)
+    apply_sensors(ds, [spec], 0, SensorContext("pin", meshes={"p": ("pin", 42, "gear", 55)}))
+    ch = results.channel(ds, "te")
+    ref = amp * np.sin(2 * np.pi * f * ch.time)
+    bound = 2 * w_a / 80e6
+    err = (ch.values - ch.values.mean()) - (ref - ref.mean())
+    assert np.max(np.abs(err)) < bound
+    assert np.std(err) < 0.5 * bound  # quantisation, not a systematic error
+    assert ch.shaft == "pin" and ch.units == "rad"
+
+
+def test_transmission_error_needs_a_known_pair(examples_dir):
+    with pytest.raises(ConfigError, match="unknown gear pair 'nope'"):
+        _reclaimer(examples_dir, [{"name": "te", "kind": "transmission_error", "pair": "nope"}])

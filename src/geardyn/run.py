@@ -129,6 +129,11 @@ def sensor_context(cfg, ds: xr.Dataset) -> SensorContext:  # noqa: ANN001
             ctx.rings[st] = RingSet(names[info.bodies["carrier"]], names[info.bodies["ring"]],
                                     np.asarray(info.psi, float),
                                     [f"{pl}.mesh_ring" for pl in planets])
+    if any(s.kind == "transmission_error" for s in getattr(cfg, "sensors", [])):
+        from geardyn.kinematics import analyze_kinematics
+
+        g = analyze_kinematics(cfg).graph
+        ctx.meshes = {m.name: (m.link_a, m.teeth_a, m.link_b, m.teeth_b) for m in g.meshes}
     if "bearing" in ds.coords:
         for b in ds["bearing"].values:
             b = str(b)

@@ -6,6 +6,10 @@ Each sensor becomes a channel ``sensors.<name>`` of a simulation result (docs/re
   counter ``clock_hz`` (omit for an ideal clock), graduation errors (standard deviation
   ``graduation_error_rad``);
 * ``tacho``: once-per-rev (or ``pulses_per_rev``) pulse times of a shaft;
+* ``transmission_error``: an encoder (``pulses_per_rev``, ``clock_hz``) on each shaft of the
+  gear ``pair`` and the angular transmission error of its wheel a,
+  ``TE = θ_a − (z_b/z_a)·θ_b`` [rad] (both angles forward, from the latched edge times);
+  a tooth fault shows in the TE of its own mesh only, which tells apart wheels sharing a shaft;
 * ``accelerometer``: a force at a location through a transfer path, plus noise and ADC.
   Locations: ``ring`` of a planetary stage (ring-mounted sensor: the ring–planet mesh forces
   weighted by the planet-pass window of seed 003 eqs 4.10-4.13), a bearing of the model
@@ -55,12 +59,13 @@ class SensorSpec(_M):
     """A simulated sensor (see the module docstring)."""
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")
-    kind: Literal["encoder", "tacho", "accelerometer"]
+    kind: Literal["encoder", "tacho", "accelerometer", "transmission_error"]
     shaft: str | None = Field(
         None, description="encoder/tacho: the shaft measured; accelerometer: the shaft its "
         "order analysis refers to (default: the run's reference shaft)")
     location: str | None = Field(None, description="accelerometer: 'ring' or a bearing name")
     stage: str | None = Field(None, description="planetary stage of a ring sensor")
+    pair: str | None = Field(None, description="transmission_error: gear pair name")
     direction: Literal["x", "y"] = "y"
     sensor_angle_deg: float = Field(0.0, description="ring sensor position (deg)")
     pulses_per_rev: int | None = Field(None, ge=1, le=100_000)
@@ -82,7 +87,13 @@ class SensorSpec(_M):
 
     @model_validator(mode="after")
     def _check(self) -> SensorSpec:
-        if self.kind in ("encoder", "tacho"):
+        if self.kind == "transmission_error":
+            if self.pair is None:
+                raise ValueError(f"transmission_error '{self.name}' needs pair (a gear pair)")
+            if self.location is not None or self.transfer_path:
+                raise ValueError(f"transmission_error '{self.name}': location/transfer_path "
+                                 "are for accelerometers")
+        elif self.kind in ("encoder", "tacho"):
             if self.shaft is None:
                 raise ValueError(f"{self.kind} '{self.name}' needs shaft (the shaft measured)")
             if self.location is not None or self.transfer_path:
@@ -106,7 +117,7 @@ class SensorSpec(_M):
         """Pulses per revolution (encoder default 1000, tacho 1)."""
         if self.pulses_per_rev is not None:
             return self.pulses_per_rev
-        return 1000 if self.kind == "encoder" else 1
+        return 1 if self.kind == "tacho" else 1000
 
 
 def check_sensors(cfg: object) -> list[str]:
@@ -122,6 +133,12 @@ def check_sensors(cfg: object) -> list[str]:
         if s.name in seen:
             problems.append(f"{where}.name: duplicate sensor name")
         seen.add(s.name)
+        pairs = {p.label for p in getattr(cfg, "gear_pairs", [])}
+        for st in ("parallel", "bevel"):
+            pairs |= {p.name for p in getattr(cfg, st, [])}
+        if s.pair is not None and s.pair not in pairs:
+            problems.append(f"{where}.pair: unknown gear pair '{s.pair}' (pairs: "
+                            f"{', '.join(sorted(pairs)) or 'none'})")
         if s.stage is not None and s.stage not in stages:
             problems.append(f"{where}.stage: unknown planetary stage '{s.stage}' (stages: "
                             f"{', '.join(sorted(stages)) or 'none'})")

@@ -32,7 +32,7 @@ The verdict keeps an alarm only where the evidence passes (see :func:`isolate`).
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -157,10 +157,13 @@ class IsolationBlocks:
 
     ``domains``: key → (n_rev × samples_per_rev) array; ``of``: component → domain key
     (components with the same own angle and mesh orders share a domain: the planets of a
-    stage, the wheels of a shaft with the shaft itself unless restricted to sidebands)."""
+    stage, the wheels of a shaft with the shaft itself); ``of_te``: wheel → domain key of the
+    transmission error of its own mesh (``transmission_error`` channels), which tells apart the
+    wheels of one shaft."""
 
     domains: dict[str, np.ndarray]
     of: dict[str, str]
+    of_te: dict[str, str] = field(default_factory=dict)
 
 
 def _uniform(x: np.ndarray, time: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -173,56 +176,99 @@ def _uniform(x: np.ndarray, time: np.ndarray) -> tuple[np.ndarray, float, float]
     return np.interp(tu, time, x), fs, float(time[0])
 
 
+class _Domains:
+    """Own-angle revolution blocks of one channel (uniform in time, reference angle known)."""
+
+    def __init__(self, ds, comps, ref: str, channel: str, skip_s: float,  # noqa: ANN001
+                 max_spr: int) -> None:
+        from geardyn import results
+        from geardyn.diagnosis.features import _reference_angle
+
+        ch = results.channel(ds, channel)
+        if ch.sampling == "events":
+            raise InputError(f"channel: '{ch.name}' holds pulse times, not a signal")
+        time = np.asarray(ch.time, float)
+        x = np.asarray(ch.values, float)
+        keep = time >= time[0] + float(skip_s)
+        time, x = time[keep], x[keep]
+        mask, ang, _ = _reference_angle(ds, comps, ref, time)
+        x, time = x[mask], time[mask]
+        if np.mean(np.diff(ang)) < 0:
+            ang = -ang
+        self.x, self.fs, self.t0 = _uniform(x, time)
+        self.angle = np.interp(self.t0 + np.arange(self.x.size) / self.fs, time, ang)
+        self.rate = float(np.max(np.gradient(self.angle)) * self.fs / (2 * np.pi))
+        self.max_spr = max_spr
+
+    def blocks(self, abs_ratio: float, teeth: Sequence[int]) -> np.ndarray | None:
+        """Difference signal of each whole revolution of the own angle ``abs_ratio·θ_ref``
+        (None with fewer than 2 revolutions)."""
+        from geardyn.signal.resample import resample_to_angle
+
+        spr = int(2 ** np.floor(np.log2(max(self.fs / (self.rate * abs_ratio), 16.0))))
+        spr = min(spr, self.max_spr)
+        sig = resample_to_angle(self.x, self.fs, abs_ratio * self.angle, samples_per_rev=spr,
+                                t0=self.t0)
+        start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
+        seg = sig.x[start:]
+        if seg.size < 2 * spr:
+            return None
+        b = revolution_blocks(seg, spr)
+        ok = [z for z in teeth if 0 < z < spr // 2 - 1]
+        return difference_blocks(b, ok) if ok else b
+
+
 def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noqa: ANN001
                      skip_s: float = 0.0, max_samples_per_rev: int = 32768) -> IsolationBlocks:
     """Per-revolution difference signals of ``channel`` of result ``ds`` in the own angle of
     every rotating component (kinematics of ``cfg``; reference angle as in
     :func:`geardyn.diagnosis.features.features_from_result`: a tacho, else the result's shaft
-    angle). Own angles start at the reference angle's origin, so revolution r of two runs of
-    the same operating profile covers the same angles (the alignment
-    :func:`sdr_evidence` uses). Components with fewer than 2 whole revolutions are left out."""
+    angle), and of every ``transmission_error`` channel in the own angles of its pair's two
+    wheels. Own angles start at the reference angle's origin, so revolution r of two runs of
+    the same operating profile covers the same angles (the alignment :func:`sdr_evidence`
+    uses). Components with fewer than 2 whole revolutions are left out."""
     from geardyn import results
     from geardyn.diagnosis.components import machine_components
-    from geardyn.diagnosis.features import _reference_angle
-    from geardyn.signal.resample import resample_to_angle
 
     ch = results.channel(ds, channel)
-    if ch.sampling == "events":
-        raise InputError(f"channel: '{ch.name}' holds pulse times, not a signal")
     ref = reference or ch.shaft or str(ds.attrs.get("reference_shaft", ""))
     comps = machine_components(cfg, ref)
-    time = np.asarray(ch.time, float)
-    x = np.asarray(ch.values, float)
-    keep = time >= time[0] + float(skip_s)
-    time, x = time[keep], x[keep]
-    mask, ang, _ = _reference_angle(ds, comps, ref, time)
-    x, time = x[mask], time[mask]
-    if np.mean(np.diff(ang)) < 0:
-        ang = -ang
-    xu, fs, t0 = _uniform(x, time)
-    ang_u = np.interp(t0 + np.arange(xu.size) / fs, time, ang)
-    rate = float(np.max(np.gradient(ang_u)) * fs / (2 * np.pi))  # reference rev/s, max
-    domains: dict[str, np.ndarray] = {}
-    of: dict[str, str] = {}
+    main = _Domains(ds, comps, ref, channel, skip_s, max_samples_per_rev)
+    out = IsolationBlocks({}, {})
     for c in comps.items:
         if c.kind not in ROTATING or c.abs_ratio == 0.0:
             continue
         teeth = tuple(sorted({*c.mesh_orders, *c.other_orders}))
         key = f"{c.abs_ratio:.12g}|{teeth}"
-        if key not in domains:
-            f_own = rate * c.abs_ratio
-            spr = int(2 ** np.floor(np.log2(max(fs / f_own, 16.0))))
-            spr = min(spr, max_samples_per_rev)
-            sig = resample_to_angle(xu, fs, c.abs_ratio * ang_u, samples_per_rev=spr, t0=t0)
-            start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
-            seg = sig.x[start:]
-            if seg.size < 2 * spr:
+        if key not in out.domains:
+            b = main.blocks(c.abs_ratio, teeth)
+            if b is None:
                 continue
-            blocks = revolution_blocks(seg, spr)
-            ok = [z for z in teeth if 0 < z < spr // 2 - 1]
-            domains[key] = difference_blocks(blocks, ok) if ok else blocks
-        of[c.name] = key
-    return IsolationBlocks(domains, of)
+            out.domains[key] = b
+        out.of[c.name] = key
+    names = {c.name for c in comps.items}
+    graph = comps.analysis.graph if comps.analysis is not None else None
+    for te in results.channels(ds):
+        tch = results.channel(ds, te)
+        if tch.kind != "transmission_error" or graph is None:
+            continue
+        mesh = next((m for m in graph.meshes if m.name == tch.attrs.get("pair")), None)
+        if mesh is None:
+            continue
+        dom = None
+        for link, wheel, z in ((mesh.link_a, mesh.wheel_a, mesh.teeth_a),
+                               (mesh.link_b, mesh.wheel_b, mesh.teeth_b)):
+            w = wheel or f"{link}/z{z}"
+            if w not in names:
+                continue
+            dom = dom or _Domains(ds, comps, ref, te, skip_s, max_samples_per_rev)
+            r = comps[w].abs_ratio
+            key = f"TE {mesh.name}|{r:.12g}"
+            b = dom.blocks(r, (z,))
+            if b is not None:
+                out.domains[key] = b
+                out.of_te[w] = key
+    return out
 
 
 @dataclass(frozen=True)
@@ -252,7 +298,11 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks, 
         raise InputError("baselines: the synchronous deviation ratio needs at least 2 healthy "
                          "records (leave-one-out statistics)")
     out: dict[str, Evidence] = {}
-    for comp, key in record.of.items():
+    items = [(c, key, "SDR") for c, key in record.of.items()]
+    # a wheel with the TE of its own mesh is judged on it (the shaft's signal is shared)
+    items += [(c, key, "SDR_TE") for c, key in record.of_te.items()
+              if all(key in b.domains for b in baselines)]
+    for comp, key, measure in items:
         sets = [b.domains.get(key) for b in baselines]
         rec = record.domains.get(key)
         if rec is None or any(s is None or s.shape[1] != rec.shape[1] for s in sets):
@@ -270,9 +320,13 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks, 
 
         base = [ratio(s, [o for j, o in enumerate(sets) if j != i]) for i, s in enumerate(sets)]
         mu, sd = float(np.mean(base)), float(np.std(base, ddof=1))
-        out[comp] = Evidence(comp, "SDR", ratio(rec, sets), mu, sd, max(mu + k * sd, floor))
+        out[comp] = Evidence(comp, measure, ratio(rec, sets), mu, sd, max(mu + k * sd, floor))
     return out
 
+
+#: Members sharing an own angle keep an alarm only above this fraction of the largest margin
+#: (measured, seed 002, 1 mm crack on the z 42 pinion: TE SDR margins 42 (z 42) and 14 (z 53)).
+SAME_ANGLE_RELATIVE = 0.5
 
 #: A bearing's best line family must explain at least this share of the envelope increase …
 SHARE_MIN = 0.2
@@ -319,7 +373,11 @@ def isolate(verdict, evidence: dict[str, Evidence], components=None) -> list[str
        (an F statistic with a known null, thresholded against the baseline: it detects and
        isolates); a bearing in alarm whose line share does not pass becomes ``healthy`` (its
        envelope lines rose, but they explain little of the change);
-    2. a shaft in alarm whose own angle is that of a toothed member also in alarm (a ring
+    2. toothed members in alarm that share an own angle (the wheels of one shaft, judged on
+       the transmission error of their own meshes; the planets of a stage) keep their alarm only
+       if their margin is at least :data:`SAME_ANGLE_RELATIVE` of the largest — the fault's own
+       mesh shows it most, the neighbour's mesh only through the shaft's torsion;
+    3. a shaft in alarm whose own angle is that of a toothed member also in alarm (a ring
        turning with the carrier, a wheel on the shaft) yields to that member, the more specific
        explanation (its mesh orders are removed in its domain).
 
@@ -337,7 +395,7 @@ def isolate(verdict, evidence: dict[str, Evidence], components=None) -> list[str
             std=ev.std, sigma=ev.std, n=0, margin=float(margin), alarm=ev.passed,
             direction="upper", channel=next(iter(cv.indicators.values())).channel
             if cv.indicators else "")
-        if ev.measure == "SDR":  # a detection statistic in its own right (F, null ≈ 1)
+        if ev.measure.startswith("SDR"):  # a detection statistic in its own right (F ≈ 1)
             if cv.state == "alarm" and not ev.passed:
                 notes.append(f"{name}: detection indicators rose but SDR = {ev.value:.3g} ≤ "
                              f"{ev.threshold:.3g}: the change is not synchronous with its own "
@@ -352,6 +410,21 @@ def isolate(verdict, evidence: dict[str, Evidence], components=None) -> list[str
         ratio = {c.name: round(c.abs_ratio, 9) for c in components.items}
         members = [n for n, cv in verdict.components.items()
                    if cv.state == "alarm" and cv.kind in ("wheel", "sun", "ring", "planet")]
+        groups: dict[float, list[str]] = {}
+        for m in members:
+            if m in evidence and ratio.get(m) is not None:
+                groups.setdefault(ratio[m], []).append(m)
+        for group in groups.values():
+            margin = {m: evidence[m].value / evidence[m].threshold for m in group}
+            top = max(margin.values())
+            for m in group:
+                if margin[m] < SAME_ANGLE_RELATIVE * top:
+                    verdict.components[m].state = "healthy"
+                    best = max(margin, key=margin.get)
+                    notes.append(f"{m}: {evidence[m].measure} margin {margin[m]:.3g} is below "
+                                 f"{SAME_ANGLE_RELATIVE:g} × that of {best} ({top:.3g}), which "
+                                 "turns with it (isolation keeps the larger)")
+        members = [m for m in members if verdict.components[m].state == "alarm"]
         for n, cv in verdict.components.items():
             if cv.kind != "shaft" or cv.state != "alarm":
                 continue

@@ -47,6 +47,8 @@ class SensorContext:
     reference_shaft: str
     rings: dict[str, RingSet] = field(default_factory=dict)
     bearings: dict[tuple[str, str], ForceRef] = field(default_factory=dict)
+    #: gear pair → (link a, teeth a, link b, teeth b) for transmission-error sensors
+    meshes: dict[str, tuple[str, int, str, int]] = field(default_factory=dict)
 
 
 def apply_sensors(ds: xr.Dataset, specs: list, seed: int, ctx: SensorContext) -> xr.Dataset:
@@ -55,7 +57,11 @@ def apply_sensors(ds: xr.Dataset, specs: list, seed: int, ctx: SensorContext) ->
     A shaft seen by a sensor that stops or turns backwards sets the run status (``stopped`` /
     ``reversed``); encoder and tacho channels then cover only the forward-turning part."""
     t = np.asarray(ds["time"].values, float)
-    seen = [s.shaft or ctx.reference_shaft for s in specs]
+    seen = [s.shaft or ctx.reference_shaft for s in specs if s.kind != "transmission_error"]
+    for s in specs:
+        if s.kind == "transmission_error" and s.pair in ctx.meshes:
+            la, _, lb, _ = ctx.meshes[s.pair]
+            seen += [shaft_of_link(ds, la), shaft_of_link(ds, lb)]
     check_rotation(ds, [s for s in seen if s in shafts(ds)])
     for i, spec in enumerate(specs):
         rng = np.random.default_rng(np.random.SeedSequence([int(seed) & 0xFFFFFFFF,
@@ -63,6 +69,8 @@ def apply_sensors(ds: xr.Dataset, specs: list, seed: int, ctx: SensorContext) ->
         where = f"sensors[{i}] '{spec.name}'"
         if spec.kind in ("encoder", "tacho"):
             _pulse_channel(ds, spec, t, rng, where)
+        elif spec.kind == "transmission_error":
+            _te_channel(ds, spec, ctx, where)
         else:
             _accelerometer_channel(ds, spec, t, rng, ctx, where)
     return ds
@@ -111,6 +119,58 @@ def _pulse_channel(ds: xr.Dataset, spec, t, rng, where: str) -> None:  # noqa: A
         attrs={**base, "units": "rad/s", "sampling": "angle",
                "long_name": f"IAS of '{spec.shaft}' (elapsed time, seed 002 eq 1)",
                "clock_hz": float(spec.clock_hz or 0.0)})
+
+
+def shaft_of_link(ds: xr.Dataset, link: str) -> str:
+    """The result's shaft that carries mechanism link ``link`` (FE shafts name their link in
+    the ``link`` coordinate; lumped models name shafts after their links)."""
+    if "link" in ds.coords:
+        for s, ln in zip(ds["shaft"].values, ds["link"].values, strict=True):
+            if str(ln) == link:
+                return str(s)
+    return link
+
+
+def _edge_angle(ds: xr.Dataset, shaft: str, ppr: int, clock_hz: float | None, where: str
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Encoder edge times [s] (latched by the clock) and their angles k·2π/R [rad]."""
+    from geardyn.sensors.encoder import pulse_times_from_angle, quantise_clock
+
+    tt, th = _forward(ds, shaft, where)
+    tp = pulse_times_from_angle(tt, th, ppr)
+    if clock_hz:
+        tp = quantise_clock(tp, clock_hz) / clock_hz
+    k = np.round((np.interp(tp, tt, th)) / (2 * np.pi / ppr))
+    return tp, k * 2 * np.pi / ppr
+
+
+def _te_channel(ds: xr.Dataset, spec, ctx: SensorContext, where: str) -> None:  # noqa: ANN001
+    """Angular transmission error of wheel a of ``spec.pair`` from an encoder on each shaft:
+    ``TE = θ_a − (z_b/z_a)·θ_b`` [rad], both angles forward from the latched edges, on a
+    uniform time grid at the slower encoder's mean edge rate (seed 002 §3.1 setup: encoders
+    and a counter clock)."""
+    if spec.pair not in ctx.meshes:
+        raise InputError(f"{where}.pair: '{spec.pair}' is not a fixed-axis gear pair of the "
+                         f"model (pairs: {', '.join(ctx.meshes) or 'none'})")
+    la, za, lb, zb = ctx.meshes[spec.pair]
+    sa, sb = shaft_of_link(ds, la), shaft_of_link(ds, lb)
+    ta, aa = _edge_angle(ds, sa, spec.ppr, spec.clock_hz, where)
+    tb, ab = _edge_angle(ds, sb, spec.ppr, spec.clock_hz, where)
+    t0, t1 = max(ta[0], tb[0]), min(ta[-1], tb[-1])
+    fs = min(ta.size / (ta[-1] - ta[0]), tb.size / (tb[-1] - tb[0]))
+    ts = t0 + np.arange(int(np.floor((t1 - t0) * fs)) + 1) / fs
+    te = np.interp(ts, ta, aa) - (zb / za) * np.interp(ts, tb, ab)
+    key = PREFIX + spec.name
+    dim = f"{key}.time"
+    ds[key] = xr.DataArray(
+        te - te.mean(), dims=(dim,),
+        coords={dim: (dim, ts, {"units": "s", "long_name": "time"})},
+        attrs={"sensor_kind": "transmission_error", "units": "rad", "sampling": "time",
+               "sample_rate_hz": float(fs), "shaft": sa, "pair": spec.pair,
+               "location": f"pair '{spec.pair}'", "pulses_per_rev": spec.ppr,
+               "clock_hz": float(spec.clock_hz or 0.0),
+               "long_name": f"transmission error of pair '{spec.pair}' (angle of its wheel a, "
+                            "mean removed)"})
 
 
 def _ideal_ias(tt, th, ppr, grad, rng):  # noqa: ANN001, ANN202
