@@ -464,11 +464,15 @@ def _planetary_components(
     if n_rev < 1:
         ctx.notes.append(f"stage {st.name}: less than one carrier revolution; left out")
         return set()
-    # carrier angle relative to the ring u = |r|·θ_ref: its sense decides the passage angles
-    psi = np.asarray(st.planet_angles)
-    s0 = sensor_angle + np.pi / n  # planet 0 passes the sensor (geardyn.sensors planet_pass)
-    if st.ring_ratio > 0:  # θ_c − θ_r decreases as θ_ref grows: u = −(θ_c − θ_r)
-        s0, psi = -s0, np.mod(-psi, TWO_PI)
+    # Planet n sits at θ_c + ψ_n (the model's planet positions) and faces a ring sensor at
+    # frame angle φ when θ_c − θ_r = φ − ψ_n (geardyn.sensors.channels.ring_sensor_windows).
+    # In u = |r|·θ_ref the passage is at u = φ − ψ_n, or at −φ + ψ_n if θ_c − θ_r decreases
+    # as θ_ref grows; planetary_tsa centres planet n's windows at s0 + psi[n].
+    psi_model = np.asarray(st.planet_angles, dtype=float)
+    if st.ring_ratio < 0:  # u = θ_c − θ_r
+        s0, psi = sensor_angle, np.mod(-psi_model, TWO_PI)
+    else:  # u = −(θ_c − θ_r)
+        s0, psi = -sensor_angle, np.mod(psi_model, TWO_PI)
     handled: set[str] = set()
     # Planets only: the sun meets every planet, so its fault needs no planet separation, and
     # its own angle relative to the carrier turns Z_r/Z_s times per carrier revolution — its
@@ -655,7 +659,9 @@ def extract_features(
     ``samples_per_rev``: of the reference grid (default: power of two ≥ the channel's density).
     ``envelope_band``: (lo, hi) in reference orders (default: kurtogram).
     ``ring_stage``: planetary stage whose fixed ring carries this accelerometer (planet-window
-    TSA; ``sensor_angle`` [rad] as in :func:`geardyn.sensors.planet_pass_signal`).
+    TSA); ``sensor_angle`` [rad]: the sensor's angle in the frame — planet n, at
+    ``θ_c + ψ_n``, faces it when ``θ_c − θ_r = sensor_angle − ψ_n``
+    (:func:`geardyn.sensors.channels.ring_sensor_windows`).
     """
     if not isinstance(components, Components):
         raise InputError(
