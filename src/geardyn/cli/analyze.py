@@ -71,7 +71,6 @@ def analyze(
     from geardyn.sensors import elapsed_time_ias
     from geardyn.signal import (
         angular_spectrogram,
-        gear_indicators,
         order_spectrum,
         power_cepstrum,
         resample_to_angle,
@@ -87,6 +86,7 @@ def analyze(
         plot_tsa,
         plot_waterfall,
     )
+    from geardyn.signal.resample import angle_from_pulses
     from geardyn.signal_io import SignalRecord, read_pulse_times, read_signal
 
     cfg = load_config(config)
@@ -120,6 +120,7 @@ def analyze(
         order_map = None
         label = (f"channel '{sim_channel.name}' of {signal.name} "
                  f"({sim_channel.attrs.get('long_name', 'IAS')})")
+        samples = (x_ang, sim_channel.time, ref_angle)
         f_ref_max = float(np.max(x_ang)) / (2 * np.pi)
     elif ias_ppr is not None:  # ---- IAS of the reference shaft from encoder edge times
         if ias_ppr < 1:
@@ -140,6 +141,7 @@ def analyze(
             speed=60.0 * x_ang / (2 * np.pi),
         )
         order_map = None
+        samples = (meas.ias, meas.time, meas.angle)
         label = f"IAS of '{ref}' ({ias_ppr} pulses/rev"
         label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
         f_ref_max = float(np.max(meas.ias)) / (2 * np.pi)
@@ -195,6 +197,13 @@ def analyze(
         nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
         spectrogram = stft(rec.x, rec.fs, nperseg=nper)
         label = f"{signal.name} ({rec.x.size} samples at {rec.fs:g} Hz)"
+        t_s = np.arange(rec.x.size) / rec.fs
+        if angle is not None:
+            samples = (rec.x, t_s, angle)
+        else:
+            inside = (t_s >= pulses[0]) & (t_s <= pulses[-1])
+            samples = (rec.x[inside], t_s[inside],
+                       angle_from_pulses(pulses, t_s[inside], pulses_per_rev))
         if sim_channel is not None:
             label = f"channel '{sim_channel.name}' of {label}"
 
@@ -224,15 +233,13 @@ def analyze(
         omax = min(xmax, float(order_map["order"].values[-1]))
         figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map")
         figs["waterfall.png"] = plot_waterfall(order_map, ymax=omax, title="Waterfall")
-    rows = [{"signal": "raw", **signal_indicators(raw)}]
+    rows = [{"signal": "raw", "component": "", "kind": "", **signal_indicators(raw)}]
     if x_ang.size - start >= spr:
         avg = tsa(x_ang[start:], spr)
         figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)")
-        rows.append({"signal": f"TSA {ref}", **signal_indicators(avg)})
-        for _, w in freqs.wheels[freqs.wheels["link"] == ref].iterrows():
-            z = int(w["teeth"])
-            if z + 1 < spr // 2:
-                rows.append({"signal": f"TSA {ref}, gear {w['wheel']}", **gear_indicators(avg, z)})
+        rows.append({"signal": f"TSA {ref} (reference grid)", "component": "", "kind": "",
+                     **signal_indicators(avg)})
+    rows += _component_rows(cfg, ref, samples, label, figs)
     cep = power_cepstrum(x_ang - x_ang.mean(), spr)
     figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, revolutions / 2),
                                          title="Power cepstrum (quefrency in revolutions)")
@@ -310,3 +317,32 @@ def _result_channel(ds, channel: str | None, reference: str | None, fs: float | 
                          "during the record; crop the run (status: "
                          f"{ds.attrs.get('status', '?')})")
     return ch, ref_angle
+
+
+def _component_rows(cfg, ref: str, samples, label: str, figs: dict) -> list[dict]:  # noqa: ANN001
+    """Indicators of every shaft, wheel, planetary member and bearing from the kinematics
+    (:func:`geardyn.diagnosis.features.extract_features`: TSA on each shaft's own angle, sign
+    handled, difference signals without every mesh of the shaft); one TSA figure per shaft."""
+    from geardyn.diagnosis.components import machine_components
+    from geardyn.diagnosis.features import extract_features
+    from geardyn.signal.plots import plot_tsa
+
+    try:
+        comps = machine_components(cfg, ref)
+    except InputError as exc:  # e.g. a 2-DOF mechanism: the reference alone fixes no ratio
+        console.print(f"[yellow]per-component indicators skipped:[/] {exc}")
+        return []
+    x, t, ang = samples
+    feats = extract_features(np.asarray(x, float), np.asarray(t, float), np.asarray(ang, float),
+                             comps, channel=label, n_blocks=1)
+    for note in feats.notes:
+        console.print(f"[yellow]note:[/] {note}")
+    for name, da in feats.tsa.items():
+        kind = comps[name].kind if name in {c.name for c in comps.items} else ""
+        if kind == "shaft":
+            safe = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)
+            figs[f"tsa_{safe}.png"] = plot_tsa(np.asarray(da.values), f"TSA of shaft '{name}' "
+                                               "(own angle)")
+    wide = feats.table.pivot_table(index=["component", "kind"], columns="indicator",
+                                   values="value", aggfunc="median").reset_index()
+    return [{"signal": f"TSA {r['component']}", **r} for r in wide.to_dict("records")]
