@@ -34,6 +34,7 @@ def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
         (["--seeds", "0,1", "--record-seed", "1"], "record_seed: 1 is also a baseline seed"),
         (["--baseline", "missing.nc", "--record", "missing.nc"], "file 'missing.nc' does not"),
         (["--baseline", "a.nc", "--record", "b.nc", "--seeds", "1"], "are for simulated runs"),
+        (["--revolutions", "4"], "diagnosis.revolutions (--revolutions): applies to the FE"),
     ],
 )
 def test_bad_options_are_messages(tmp_path: Path, no_simulation, extra, message) -> None:

@@ -86,7 +86,10 @@ def diagnose_cmd(
     record_seed: int | None = typer.Option(None, "--record-seed", help="seed of the record"),
     blocks: int | None = typer.Option(None, "--blocks", help="blocks of revolutions per record"),
     skip: float | None = typer.Option(None, "--skip", help="start transient discarded \\[s]"),
-    t_end: float | None = typer.Option(None, "--t-end", help="simulated duration \\[s]"),
+    t_end: float | None = typer.Option(None, "--t-end", help="planetary model: simulated "
+                                       "duration \\[s]"),
+    revolutions: float | None = typer.Option(None, "--revolutions", help="FE transmission: "
+                                             "revolutions of the speed-law reference"),
     residuals: bool | None = typer.Option(
         None, "--residuals/--no-residuals",
         help="reference-residual indicators RR_kurtosis/RR_rms (≥ 2 baselines)"),
@@ -114,11 +117,13 @@ def diagnose_cmd(
                   "sigma_floor": sigma_floor, "n_blocks": blocks, "skip_s": skip,
                   "reference_residuals": residuals, "progress": progress}
         if record is not None:
-            if seeds is not None or record_seed is not None or t_end is not None:
-                raise InputError("--seeds/--record-seed/--t-end are for simulated runs; they "
-                                 "do not apply with --baseline/--record files")
+            if any(v is not None for v in (seeds, record_seed, t_end, revolutions)):
+                raise InputError("--seeds/--record-seed/--t-end/--revolutions are for "
+                                 "simulated runs; they do not apply with --baseline/--record "
+                                 "files")
             verdict = diagnose_files(baseline, record, cfg, out, **common)
         else:
             verdict = diagnose(cfg, out, baseline_seeds=parse_seeds(seeds),
-                               record_seed=record_seed, t_end_s=t_end, **common)
+                               record_seed=record_seed, t_end_s=t_end,
+                               revolutions=revolutions, **common)
     render_verdict(verdict, out)

@@ -34,7 +34,11 @@ class DiagnosisSpec(BaseModel):
     )
     blocks: int = Field(4, ge=1, le=64, description="blocks of whole revolutions per record")
     skip_s: float = Field(0.0, ge=0, description="start transient discarded (s)")
-    t_end_s: float | None = Field(None, gt=0, description="simulated duration override (s)")
+    t_end_s: float | None = Field(
+        None, gt=0, description="planetary model: simulated duration override (s)")
+    revolutions: float | None = Field(
+        None, gt=0, description="FE transmission: revolutions of the speed-law reference "
+        "(overrides the speed law's)")
     reference_residuals: bool = Field(
         False, description="add the reference-residual indicators RR_kurtosis/RR_rms (each "
         "block's TSA minus the healthy baselines' mean TSA; needs ≥ 2 baseline records)",

@@ -101,6 +101,19 @@ def _channel(ds: xr.Dataset, wanted: str | None, what: str) -> str:
     return names[0]
 
 
+def _run_length(cfg: GeardynConfig, opts: DiagnosisSpec) -> dict[str, float | None]:
+    """``run_simulation`` keywords of the run length, checked against the simulated model."""
+    planetary = getattr(cfg, "planetary_dynamics", None) is not None
+    if opts.t_end_s is not None and not planetary:
+        raise ConfigError("diagnosis.t_end_s (--t-end): applies to the planetary model; the FE "
+                          "transmission's run length is set by diagnosis.revolutions "
+                          "(--revolutions)")
+    if opts.revolutions is not None and planetary:
+        raise ConfigError("diagnosis.revolutions (--revolutions): applies to the FE "
+                          "transmission; the planetary run length is diagnosis.t_end_s (--t-end)")
+    return {"t_end_s": opts.t_end_s, "revolutions": opts.revolutions}
+
+
 def operating_frequencies(
     cfg: GeardynConfig, ds: xr.Dataset, reference: str | None = None, skip_s: float = 0.0
 ) -> CharacteristicFrequencies:
@@ -226,6 +239,7 @@ def diagnose(
     n_blocks: int | None = None,
     skip_s: float | None = None,
     t_end_s: float | None = None,
+    revolutions: float | None = None,
     reference_residuals: bool | None = None,
     progress: Progress | None = None,
 ) -> Verdict:
@@ -233,8 +247,9 @@ def diagnose(
     write ``out_dir/verdict.json`` and ``out_dir/report.html``.
 
     Defaults from ``[diagnosis]`` (baseline seeds 0, 1, 2; record seed 100; k = 3; σ floor
-    5 % of |mean|; 4 blocks; the first sensor channel). ``t_end_s`` [s] overrides the run
-    length, ``skip_s`` [s] the start transient discarded; ``reference_residuals`` adds the
+    5 % of |mean|; 4 blocks; the first sensor channel). ``t_end_s`` [s] (planetary model) or
+    ``revolutions`` (FE transmission) override the run length, ``skip_s`` [s] is the start
+    transient discarded; ``reference_residuals`` adds the
     RR indicators of :func:`geardyn.diagnosis.features.with_reference_residuals`. Raises
     InputError when the output directory is not writable (before any simulation), a run does
     not end with status ``ok`` or the result has no sensor channel.
@@ -243,11 +258,13 @@ def diagnose(
 
     opts = options(cfg, baseline_seeds=baseline_seeds, record_seed=record_seed, channel=channel,
                    reference=reference, threshold_k=k, sigma_floor=sigma_floor, blocks=n_blocks,
-                   skip_s=skip_s, t_end_s=t_end_s, reference_residuals=reference_residuals)
+                   skip_s=skip_s, t_end_s=t_end_s, revolutions=revolutions,
+                   reference_residuals=reference_residuals)
     out = check_output_dir(out_dir)
     if opts.record_seed in opts.baseline_seeds:
         raise ConfigError(f"diagnosis.record_seed: {opts.record_seed} is also a baseline seed "
                           f"{opts.baseline_seeds}; the record must be an independent run")
+    run_length = _run_length(cfg, opts)
     healthy = healthy_variant(cfg)
     n = len(opts.baseline_seeds) + 1
     feats = []
@@ -258,7 +275,7 @@ def diagnose(
         def tick(f: float, i: int = i, what: str = what) -> None:
             _say(progress, f"simulating {what}", (i + 0.9 * f) / n)
 
-        ds = run_simulation(healthy, seed=seed, t_end_s=opts.t_end_s, progress=tick)
+        ds = run_simulation(healthy, seed=seed, progress=tick, **run_length)
         _check_status(ds, what)
         ch = _channel(ds, opts.channel, what)
         _say(progress, f"indicators of {what}", (i + 0.9) / n)
@@ -266,7 +283,7 @@ def diagnose(
         blocks.append(_blocks(ds, cfg, ch, opts))
         del ds
     what = f"record (configured faults), seed {opts.record_seed}"
-    rec_ds = run_simulation(cfg, seed=opts.record_seed, t_end_s=opts.t_end_s,
+    rec_ds = run_simulation(cfg, seed=opts.record_seed, **run_length,
                             progress=lambda f: _say(progress, f"simulating {what}",
                                                     (n - 1 + 0.9 * f) / n))
     _check_status(rec_ds, what)
@@ -275,9 +292,8 @@ def diagnose(
     record = _features(rec_ds, cfg, ch, opts)
     rec_blocks = _blocks(rec_ds, cfg, ch, opts)
     _say(progress, "verdict and report", 0.99)
-    info = ({"seeds": list(opts.baseline_seeds), "blocks": opts.blocks,
-             "t_end_s": opts.t_end_s, "skip_s": opts.skip_s},
-            {"seed": opts.record_seed, "t_end_s": opts.t_end_s})
+    info = ({"seeds": list(opts.baseline_seeds), "blocks": opts.blocks, **run_length,
+             "skip_s": opts.skip_s}, {"seed": opts.record_seed, **run_length})
     verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, fault_list(cfg),
                       blocks=(blocks, rec_blocks), aligned=True)
     _say(progress, "done", 1.0)
