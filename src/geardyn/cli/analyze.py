@@ -104,35 +104,28 @@ def analyze(
         if v <= 0:
             raise InputError(f"--speed: {link} speed must be > 0 rpm, got {v:g}")
 
+    ias = None
     if sim_channel is not None and sim_channel.sampling == "angle":  # simulated encoder IAS
         ref = sim_channel.shaft
-        x_ang = raw = sim_channel.values
         spr = int(sim_channel.pulses_per_rev or 1)
-        rpm = 60.0 * float(np.mean(x_ang)) / (2 * np.pi)
-        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
-        max_valid = spr / 2.0
-        revolutions = x_ang.size / spr
-        start = 0
-        spectrogram = angular_spectrogram(
-            x_ang, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 8)),
-            speed=60.0 * x_ang / (2 * np.pi),
-        )
-        order_map = None
+        ias = sim_channel.values
+        samples = (ias, sim_channel.time, ref_angle)
         label = (f"channel '{sim_channel.name}' of {signal.name} "
                  f"({sim_channel.attrs.get('long_name', 'IAS')})")
-        samples = (x_ang, sim_channel.time, ref_angle)
-        f_ref_max = float(np.max(x_ang)) / (2 * np.pi)
     elif ias_ppr is not None:  # ---- IAS of the reference shaft from encoder edge times
         if ias_ppr < 1:
             raise InputError(f"--ias-ppr: pulses per revolution must be >= 1, got {ias_ppr}")
-        edges = read_pulse_times(signal)
         ref = _reference(speeds, reference, cfg)
-        meas = elapsed_time_ias(edges, ias_ppr, clock)
-        rpm = 60.0 * float(np.mean(meas.ias)) / (2 * np.pi)
-        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
+        meas = elapsed_time_ias(read_pulse_times(signal), ias_ppr, clock)
         spr = int(ias_ppr)
-        x_ang = meas.ias
-        raw = meas.ias
+        ias = meas.ias
+        samples = (meas.ias, meas.time, meas.angle)
+        label = f"IAS of '{ref}' ({ias_ppr} pulses/rev"
+        label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
+    if ias is not None:  # IAS: one sample per encoder interval, the angle grid itself
+        x_ang = raw = ias
+        rpm = 60.0 * float(np.mean(ias)) / (2 * np.pi)
+        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
         max_valid = spr / 2.0
         revolutions = x_ang.size / spr
         start = 0
@@ -141,10 +134,7 @@ def analyze(
             speed=60.0 * x_ang / (2 * np.pi),
         )
         order_map = None
-        samples = (meas.ias, meas.time, meas.angle)
-        label = f"IAS of '{ref}' ({ias_ppr} pulses/rev"
-        label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
-        f_ref_max = float(np.max(meas.ias)) / (2 * np.pi)
+        f_ref_max = float(np.max(ias)) / (2 * np.pi)
     else:  # ---- time signal resampled to the reference angle
         if sim_channel is not None:
             rec = SignalRecord(sim_channel.values, float(sim_channel.sample_rate_hz),
