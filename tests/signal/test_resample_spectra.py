@@ -139,3 +139,20 @@ def test_bad_sample_rate_is_named():
         amplitude_spectrum(np.ones(16), 0.0)
     with pytest.raises(InputError, match="x: signal contains NaN"):
         order_spectrum(np.array([1.0, np.nan, 0.0, 1.0]), 4)
+
+
+def test_counter_rotating_shaft_angle_is_accepted():
+    """Issue 9: a negative link ratio (counter-rotating shaft) gave a decreasing angle that
+    resample_to_angle refused; the order content does not depend on the sense of rotation."""
+    from geardyn.signal import distant_shaft, order_spectrum, resample_to_angle
+
+    fs, f_ref = 5000.0, 10.0
+    t = np.arange(int(4 * fs)) / fs
+    th_ref = 2 * np.pi * f_ref * t
+    th = distant_shaft(th_ref, -55 / 42)  # counter-rotating output shaft
+    x = np.cos(7 * np.abs(th))  # order 7 of the output shaft
+    sig = resample_to_angle(x, fs, th, samples_per_rev=64)
+    spec = order_spectrum(sig.x, 64)
+    assert float(spec["order"][int(spec.argmax())]) == pytest.approx(7.0, abs=0.3)
+    with pytest.raises(InputError, match="monotonic"):
+        resample_to_angle(x, fs, np.sin(t), samples_per_rev=64)

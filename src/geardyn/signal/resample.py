@@ -199,7 +199,9 @@ def resample_to_angle(
     ``samples_per_rev`` samples per revolution of the reference shaft.
 
     The reference angle comes from either ``angle`` (rad, one value per sample of ``x``; from a
-    simulation or an encoder) or ``pulse_times`` of a tacho/encoder with ``pulses_per_rev``.
+    simulation or an encoder; a strictly decreasing angle — a counter-rotating shaft, e.g.
+    :func:`distant_shaft` with a negative :func:`link_ratio` — is negated) or ``pulse_times``
+    of a tacho/encoder with ``pulses_per_rev``.
     Anti-aliasing: zero-phase low-pass at ``f_rot,min × samples_per_rev/2.56`` [Hz] (cannot
     alias at the slowest speed). Orders up to ``max_valid_order = 0.8·cutoff/f_rot,max`` pass
     unattenuated at every speed; if ``max_order`` is given and exceeds that, an error tells the
@@ -224,8 +226,11 @@ def resample_to_angle(
         xs, t = xs[inside], t[inside]
         th = angle_from_pulses(tp, t, pulses_per_rev)
     d = np.diff(th)
+    if np.all(d < 0):  # a counter-rotating shaft (negative kinematic ratio): its own forward
+        th, d = -th, -d  # angle is the negated one; orders are the same
     if not np.all(d > 0):
-        raise InputError("angle: the reference angle must increase strictly (forward rotation)")
+        raise InputError("angle: the reference angle must be strictly monotonic (the shaft "
+                         "must not stop or reverse during the record)")
     f_rot = d * f / (2.0 * np.pi)  # rotation frequency per sample interval [Hz]
     f_min, f_max = float(f_rot.min()), float(f_rot.max())
     # Anti-aliasing: the largest cut-off that cannot alias at the slowest speed (2.56 rule).
