@@ -186,7 +186,8 @@ def test_short_or_malformed_inputs_raise_named_errors():
         tsa(np.ones((3, 4)), 4)
     with pytest.raises(InputError, match="nperseg"):
         stft(np.ones(100), 10.0, nperseg=200)
-    with pytest.raises(InputError, match="angle: the reference angle must increase"):
-        resample_to_angle(np.ones(100), 100.0, np.linspace(10, 0, 100))
+    with pytest.raises(InputError, match="angle: the reference angle must be strictly monotonic"):
+        resample_to_angle(np.ones(100), 100.0, np.concatenate([np.linspace(0, 5, 50),
+                                                               np.linspace(5, 0, 50)]))
     with pytest.raises(InputError, match="samples_per_carrier_rev"):
         planetary_tsa(np.ones(1000), 100, 65, 24, 3)
