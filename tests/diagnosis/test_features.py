@@ -195,7 +195,7 @@ def seed004():
 
 
 def _fm4(comps, sig):
-    f = extract_features(*sig, comps, ring_stage="planetary", n_blocks=4)
+    f = extract_features(*sig, comps, ring_stage="planetary", n_blocks=4, planet_windows=True)
     s = f.summary()
     return s[s.indicator == "FM4"].set_index("component")["value"], f
 
@@ -247,7 +247,9 @@ def test_tsa_angles_are_own_angles_whatever_the_record_start(comps, seed004):
     x, t, th = ring_signal(3, planet_fault=1)
     p2 = seed004.of_kind("planet")[1].name
     for cut in (0, 777):
-        f = extract_features(x[cut:], t[cut:], th[cut:], seed004, ring_stage="planetary")
+        f = extract_features(
+            x[cut:], t[cut:], th[cut:], seed004, ring_stage="planetary", planet_windows=True
+        )
         assert _envelope_peak_deg(f.tsa[p2]) == pytest.approx(np.degrees(1 + np.pi), abs=11.3)
 
 
