@@ -25,12 +25,16 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
 
 from geardyn.errors import InputError
 from geardyn.kinematics import KinematicAnalysis, MechanismGraph, analyze_kinematics
+
+if TYPE_CHECKING:
+    from geardyn.config import Mechanism
 
 #: Bearing fault lines, as named in the kinematics bearings table (``<line>_order``).
 BEARING_LINES = ("BPFO", "BPFI", "BSF", "FTF")
@@ -164,7 +168,7 @@ class Components:
         return pd.DataFrame(rows)
 
 
-def _as_analysis(cfg) -> KinematicAnalysis:
+def _as_analysis(cfg: Mechanism | MechanismGraph | KinematicAnalysis) -> KinematicAnalysis:
     if isinstance(cfg, KinematicAnalysis):
         return cfg
     if isinstance(cfg, MechanismGraph) or hasattr(cfg, "graph"):
@@ -317,7 +321,7 @@ def _planet_links(analysis: KinematicAnalysis) -> set[str]:
 
 
 def machine_components(
-    cfg,
+    cfg: Mechanism | MechanismGraph | KinematicAnalysis,
     reference: str,
     input_speeds: Mapping[str, float] | None = None,
 ) -> Components:

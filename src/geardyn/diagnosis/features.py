@@ -51,13 +51,16 @@ import math
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
 from geardyn.diagnosis.components import BEARING_LINES, Component, Components, machine_components
+
+if TYPE_CHECKING:
+    from geardyn.config import Mechanism
 from geardyn.errors import InputError
 from geardyn.signal._checks import array1d, positive_int
 from geardyn.signal.envelope import envelope_spectrum
@@ -790,7 +793,9 @@ def _markers(components: Components, mean_rpm: float) -> pd.DataFrame | None:
 _RING = re.compile(r"ring of stage '([^']*)'")
 
 
-def _reference_angle(ds: xr.Dataset, comps: Components, reference: str, time: np.ndarray):
+def _reference_angle(
+    ds: xr.Dataset, comps: Components, reference: str, time: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, str]:
     """Reference angle at ``time``: from a tacho channel on a shaft of the mechanism (pulse
     angles ``k·2π/R`` through :func:`geardyn.signal.angle_from_pulses`, divided by the shaft's
     ratio), else from the result's ``angle`` of the reference shaft. Returns (mask of ``time``
@@ -827,7 +832,7 @@ def _reference_angle(ds: xr.Dataset, comps: Components, reference: str, time: np
 
 def features_from_result(
     ds: xr.Dataset,
-    cfg,
+    cfg: Mechanism,
     channel: str,
     reference: str | None = None,
     skip_s: float = 0.0,
