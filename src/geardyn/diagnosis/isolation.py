@@ -22,9 +22,11 @@ is the change **periodic with this component's own fault period**?
   Hanna et al. 2011).
 * Bearings: the squared-envelope spectrum's increase over the baseline, ``Δ(o) = max(0,
   S(o) − S̄_base(o))``; the **line-family share** of a defect line L is the fraction of
-  ``Σ Δ²`` found at its harmonics ``k·f_L`` (every harmonic in range, ±1 bin): an outer-race
-  spall explains its whole BPFO comb, a line that coincides with one harmonic explains little
-  (Randall & Antoni 2011 read the same comb by eye).
+  ``Σ Δ²`` found at its harmonics ``k·f_L`` (every harmonic in range, ±1 bin), and its
+  **concentration** that share divided by the fraction of bins the comb covers (1 for an
+  increase spread evenly: a dense comb such as the cage line's matches much by chance): an
+  outer-race spall concentrates the increase on its whole BPFO comb, a line that coincides
+  with one harmonic does not (Randall & Antoni 2011 read the same comb by eye).
 
 The verdict keeps an alarm only where the evidence passes (see :func:`isolate`).
 """
@@ -112,6 +114,9 @@ class LineShare:
     order: float
     share: float
     harmonics: int
+    concentration: float = 0.0
+    """share / fraction of the spectrum's bins the comb covers: 1 for an increase spread evenly
+    (a dense comb such as the cage line's matches much by chance), ≫ 1 for the line's own comb."""
 
 
 def line_family_shares(orders: np.ndarray, record: np.ndarray, baselines: Sequence[np.ndarray],
@@ -135,13 +140,17 @@ def line_family_shares(orders: np.ndarray, record: np.ndarray, baselines: Sequen
         if not np.isfinite(f) or f <= 2 * step:
             out.append(LineShare(bearing, line, float(f), 0.0, 0))
             continue
-        got, n = 0.0, 0
+        got, n, bins = 0.0, 0, set()
         for k in range(1, int(top / f) + 1):
             i = int(round(k * f / step))
             lo, hi = max(i - 1, 0), min(i + 2, o.size)
             got += float(np.max(delta[lo:hi] ** 2))
+            bins |= set(range(lo, hi))
             n += 1
-        out.append(LineShare(bearing, line, float(f), got / total if total > 0 else 0.0, n))
+        share = got / total if total > 0 else 0.0
+        coverage = len(bins) / max(int(np.sum(o <= top)), 1)
+        out.append(LineShare(bearing, line, float(f), share, n,
+                             share / coverage if coverage > 0 else 0.0))
     return out
 
 
@@ -262,9 +271,10 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
             if w not in names:
                 continue
             dom = dom or _Domains(ds, comps, ref, te, skip_s, max_samples_per_rev)
-            r = comps[w].abs_ratio
-            key = f"TE {mesh.name}|{r:.12g}"
-            b = dom.blocks(r, (z,))
+            c = comps[w]
+            key = f"TE {mesh.name}|{c.abs_ratio:.12g}"
+            # every mesh of the wheel's shaft: the TE also carries the shaft's other meshes
+            b = dom.blocks(c.abs_ratio, tuple(sorted({z, *c.mesh_orders, *c.other_orders})))
             if b is not None:
                 out.domains[key] = b
                 out.of_te[w] = key
@@ -328,18 +338,19 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks, 
 #: (measured, seed 002, 1 mm crack on the z 42 pinion: TE SDR margins 42 (z 42) and 14 (z 53)).
 SAME_ANGLE_RELATIVE = 0.5
 
-#: A bearing's best line family must explain at least this share of the envelope increase …
-SHARE_MIN = 0.2
-#: … and at least this fraction of the best family's share over all bearings.
-SHARE_RELATIVE = 0.5
+#: A bearing's best line family must concentrate the envelope increase on its comb at least
+#: this many times more than on the spectrum as a whole …
+CONCENTRATION_MIN = 4.0
+#: … and at least this fraction of the best concentration over all bearings.
+CONCENTRATION_RELATIVE = 0.5
 
 
 def bearing_evidence(baselines: Sequence, record, order_max: float | None = None,  # noqa: ANN001
                      ) -> dict[str, Evidence]:
-    """Line-family shares (:func:`line_family_shares`) of every bearing line from the
+    """Line-family concentrations (:func:`line_family_shares`) of every bearing line from the
     squared-envelope spectra of ``Features`` objects (baselines interpolated onto the record's
-    order grid); per bearing its best line, threshold ``max(SHARE_MIN, SHARE_RELATIVE × best
-    share of all bearings)``."""
+    order grid); per bearing its best line, threshold ``max(CONCENTRATION_MIN,
+    CONCENTRATION_RELATIVE × best concentration of all bearings)``."""
     spec = getattr(record, "envelope_spectrum", None)
     comps = getattr(record, "components", None)
     if spec is None or comps is None:
@@ -357,11 +368,11 @@ def bearing_evidence(baselines: Sequence, record, order_max: float | None = None
     shares = line_family_shares(o, np.asarray(spec.values, float), base, lines, order_max)
     best: dict[str, LineShare] = {}
     for sh in shares:
-        if sh.bearing not in best or sh.share > best[sh.bearing].share:
+        if sh.bearing not in best or sh.concentration > best[sh.bearing].concentration:
             best[sh.bearing] = sh
-    top = max(sh.share for sh in best.values())
-    th = max(SHARE_MIN, SHARE_RELATIVE * top)
-    return {b: Evidence(b, f"{sh.line} share", sh.share, 0.0, 0.0, th)
+    top = max(sh.concentration for sh in best.values())
+    th = max(CONCENTRATION_MIN, CONCENTRATION_RELATIVE * top)
+    return {b: Evidence(b, f"{sh.line} concentration", sh.concentration, 0.0, 0.0, th)
             for b, sh in best.items()}
 
 
