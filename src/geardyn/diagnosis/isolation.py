@@ -124,7 +124,7 @@ def line_family_shares(orders: np.ndarray, record: np.ndarray, baselines: Sequen
                        ) -> list[LineShare]:
     """Shares of ``Σ Δ²`` at every harmonic of each line (``lines``: (bearing, line) → order
     of the reference) with ``Δ = max(0, record − mean(baselines))`` on the common ``orders``
-    grid (module docstring). Harmonics are matched within ±1 bin."""
+    grid (module docstring). Each harmonic's comb tooth spans ±1 bin."""
     o = np.asarray(orders, float)
     s = np.asarray(record, float)
     base = np.mean([np.asarray(b, float) for b in baselines], axis=0)
@@ -140,15 +140,14 @@ def line_family_shares(orders: np.ndarray, record: np.ndarray, baselines: Sequen
         if not np.isfinite(f) or f <= 2 * step:
             out.append(LineShare(bearing, line, float(f), 0.0, 0))
             continue
-        got, n, bins = 0.0, 0, set()
+        comb = np.zeros(o.size, bool)  # ±1 bin around every harmonic (leakage, slip)
+        n = 0
         for k in range(1, int(top / f) + 1):
             i = int(round(k * f / step))
-            lo, hi = max(i - 1, 0), min(i + 2, o.size)
-            got += float(np.max(delta[lo:hi] ** 2))
-            bins |= set(range(lo, hi))
+            comb[max(i - 1, 0):min(i + 2, o.size)] = True
             n += 1
-        share = got / total if total > 0 else 0.0
-        coverage = len(bins) / max(int(np.sum(o <= top)), 1)
+        share = float(np.sum(delta[comb] ** 2)) / total if total > 0 else 0.0
+        coverage = float(comb.sum()) / max(int(np.sum(o <= top)), 1)
         out.append(LineShare(bearing, line, float(f), share, n,
                              share / coverage if coverage > 0 else 0.0))
     return out
