@@ -241,5 +241,6 @@ def _accelerometer_channel(ds: xr.Dataset, spec, t, rng, ctx: SensorContext,  # 
         attrs={"sensor_kind": "accelerometer", "units": units, "sampling": "time",
                "sample_rate_hz": float(fs), "shaft": spec.shaft or ctx.reference_shaft,
                "location": label, "long_name": f"{what} at the {label}",
+               "sensor_angle_deg": float(spec.sensor_angle_deg),
                "transfer_modes_hz": [float(m.frequency_hz) for m in spec.transfer_path]
                or [0.0], "noise_rms": float(spec.noise_rms), "adc_bits": int(bits or 0)})
