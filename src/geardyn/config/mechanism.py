@@ -37,7 +37,7 @@ from geardyn.kinematics.graph import (
 
 
 class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 def _teeth(v: object) -> object:
