@@ -16,6 +16,30 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 
+
+
+def _version(value: bool) -> None:
+    if value:
+        from geardyn import __version__
+
+        typer.echo(f"geardyn {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    debug: bool = typer.Option(False, "--debug", help="show tracebacks of unexpected errors"),
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                 help="print the version and exit"),
+) -> None:
+    """Dynamics and condition monitoring of gear transmissions."""
+    import os
+
+    from geardyn.cli.common import DEBUG
+
+    DEBUG["on"] = debug or bool(os.environ.get("GEARDYN_DEBUG"))
+
+
 # Command modules register themselves on import (one line each).
 from geardyn.cli import analyze as _analyze  # noqa: E402,F401
 from geardyn.cli import demo as _demo  # noqa: E402,F401
