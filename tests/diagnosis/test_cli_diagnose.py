@@ -30,6 +30,8 @@ def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
         (["--baseline", "healthy.nc"], "--baseline and --record go together"),
         (["--seeds", "0,one"], "--seeds: expected comma-separated integers"),
         (["--k", "0"], "diagnosis.threshold_k"),
+        (["--k", "inf"], "diagnosis.threshold_k"),
+        (["--skip", "nan"], "diagnosis.skip_s"),
         (["--seeds", "0,0"], "diagnosis.baseline_seeds"),
         (["--seeds", "0,1", "--record-seed", "1"], "record_seed: 1 is also a baseline seed"),
         (["--baseline", "missing.nc", "--record", "missing.nc"], "file 'missing.nc' does not"),

@@ -14,7 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 class DiagnosisSpec(BaseModel):
     """``[diagnosis]``: baseline, record and threshold settings of ``geardyn diagnose``."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     channel: str | None = Field(
         None, description="sensor channel analysed (name of a [[sensors]] entry); default: first"
