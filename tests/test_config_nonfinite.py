@@ -34,3 +34,41 @@ def test_non_finite_values_name_the_field(tmp_path, examples_dir, example, old, 
         load_config(bad)
     assert field in str(err.value)
     assert "finite" in str(err.value)
+
+
+def test_implausible_inputs_are_refused(tmp_path, examples_dir):
+    """Issue 13 examples: a module typed in mm into an m field; a time step longer than the
+    run."""
+    text = (examples_dir / "seed002_two_stage.toml").read_text()
+    bad = tmp_path / "m.toml"
+    bad.write_text(text.replace("normal_module_m = 0.003", "normal_module_m = 3"))
+    with pytest.raises(ConfigError, match=r"normal_module_m: Input should be less than or "
+                       r"equal to 0.1"):
+        load_config(bad)
+    text = (examples_dir / "planetary_reclaimer.toml").read_text()
+    bad.write_text(text.replace("dt_s = 1e-4", "dt_s = 1.0"))
+    with pytest.raises(ConfigError, match="dt_s: the time step 1 s must be shorter than "
+                       "t_end_s 0.05 s"):
+        load_config(bad)
+
+
+def test_far_too_large_time_step_ends_suspect(tmp_path, examples_dir):
+    """Issue 13: a 100× too-large step ran to 'ok' with 0.17 m mesh deflections. Now the run
+    ends 'suspect' (deflection > 0.1 module, module 2·r_b/(z cos α) = 16 mm for seed 004) and
+    keeps what it computed; `simulate` exits 3 and writes the file."""
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    text = (examples_dir / "planetary_reclaimer.toml").read_text()
+    cfg = tmp_path / "big_step.toml"
+    cfg.write_text(text.replace("dt_s = 1e-4", "dt_s = 1e-2").replace("t_end_s = 0.05",
+                                                                      "t_end_s = 0.5"))
+    out = tmp_path / "run.nc"
+    r = CliRunner().invoke(app, ["simulate", str(cfg), "--out", str(out)])
+    assert r.exit_code == 3, r.output
+    assert "status suspect" in r.output and "module of 16 mm" in r.output
+    assert out.is_file()
+    r = CliRunner().invoke(app, ["simulate", str(examples_dir / "planetary_reclaimer.toml"),
+                                 "--out", str(tmp_path / "ok.nc")])
+    assert r.exit_code == 0, r.output

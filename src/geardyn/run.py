@@ -76,7 +76,39 @@ def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> xr.Dataset:  
     ds = to_dataset(model, res, p.mesh_index, {"dt_s": sim.dt_s, "hht_alpha": sim.hht_alpha},
                     shaft_names=names)
     ds.attrs["reference_shaft"] = _reference(cfg, [str(s) for s in ds["shaft"].values])
+    _check_mesh_deflection(ds, cfg)
     return ds
+
+
+#: A mesh deflection beyond this fraction of the module is not a gear mesh any more.
+MAX_DEFLECTION_PER_MODULE = 0.1
+
+
+def _check_mesh_deflection(ds: xr.Dataset, cfg) -> None:  # noqa: ANN001
+    """Status ``suspect`` when a mesh deflects more than :data:`MAX_DEFLECTION_PER_MODULE` of
+    its module (module = 2 r_b,sun / (z_sun cos α_s), seed 003 Table 3.1 radii): typically a
+    time step far too large for the mesh stiffness, whose run still ends without overflow."""
+    if ds.attrs.get("status") != "ok" or "mesh_deflection" not in ds:
+        return
+    stages = {s.name: s for s in cfg.planetary}
+    worst = []
+    for sd in cfg.planetary_dynamics.stages:
+        z = stages[sd.stage].sun_teeth
+        module = 2 * sd.sun.base_radius_m / (z * math.cos(math.radians(sd.pressure_angle_sun_deg)))
+        names = [str(m) for m in ds["mesh"].values]
+        if len(cfg.planetary_dynamics.stages) > 1:
+            names = [m for m in names if m.startswith(f"{sd.stage}.")]
+        if not names:
+            continue
+        d = float(np.nanmax(np.abs(ds["mesh_deflection"].sel(mesh=names).values)))
+        if not math.isfinite(d) or d > MAX_DEFLECTION_PER_MODULE * module:
+            worst.append(f"stage '{sd.stage}': mesh deflection up to {d * 1e3:.3g} mm for a "
+                         f"module of {module * 1e3:.3g} mm")
+    if worst:
+        ds.attrs["status"] = "suspect"
+        ds.attrs["diagnosis"] = ("; ".join(worst) + f" (more than {MAX_DEFLECTION_PER_MODULE:g}"
+                                 " × module): reduce simulation.dt_s or check the stiffnesses "
+                                 "and loads; the computed part is kept")
 
 
 def body_links(cfg, model) -> dict[str, str]:  # noqa: ANN001

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import typer
@@ -10,7 +11,7 @@ from rich.table import Table
 from geardyn.cli import app
 from geardyn.cli.common import console, friendly_errors
 from geardyn.config import load_config
-from geardyn.errors import ConfigError
+from geardyn.errors import ConfigError, InputError
 
 
 @app.command("transmission")
@@ -36,6 +37,10 @@ def transmission_cmd(
     from geardyn.results import to_netcdf
     from geardyn.run import add_sensors
 
+    if revolutions is not None and not (math.isfinite(revolutions) and revolutions > 0):
+        raise InputError(f"--revolutions: must be a finite number > 0, got {revolutions:g}")
+    if netcdf is not None and not netcdf.parent.exists():
+        raise InputError(f"--netcdf: directory {netcdf.parent} does not exist")
     cfg = load_config(config)
     if cfg.transmission is None:
         raise ConfigError("no [transmission] section", source=str(config))

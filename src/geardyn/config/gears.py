@@ -101,7 +101,9 @@ class GearGeometryConfig(_Model):
     """Geometry of a named gear pair (or of all planets' sun or ring meshes of a stage)."""
 
     pair: str = Field(min_length=1, description="gear pair / stage / planetary mesh name")
-    normal_module_m: float = Field(gt=0, description="normal module m_n (m)")
+    normal_module_m: float = Field(
+        gt=0, le=0.1, description="normal module m_n (m; a module over 0.1 m is refused: a value "
+        "in mm typed into this m field)")
     normal_pressure_angle_deg: float = Field(20.0, gt=0, lt=45, description="α_n (deg)")
     helix_angle_deg: float = Field(0.0, gt=-60, lt=60, description="β (deg)")
     face_width_m: float = Field(gt=0, description="face width b (m)")

@@ -189,6 +189,14 @@ class WheelLoad(_M):
 class Simulation(_M):
     t_end_s: float = Field(gt=0)
     dt_s: float = Field(gt=0)
+
+    @model_validator(mode="after")
+    def _steps(self) -> Simulation:
+        if self.dt_s >= self.t_end_s:
+            raise ValueError(f"dt_s: the time step {self.dt_s:g} s must be shorter than t_end_s "
+                             f"{self.t_end_s:g} s")
+        return self
+
     save_every: int = Field(1, ge=1)
     hht_alpha: float = Field(0.0, ge=0, le=1 / 3)
     contact_loss: bool = False
