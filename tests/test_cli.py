@@ -59,8 +59,12 @@ def test_demo_runs_all_examples():
     assert res.exit_code == 0, res.output
     for name in ("car_differential", "alouette3_mgb", "hammami_back_to_back", "reclaimer_drive"):
         assert name in res.output
-    for step in ("geardyn stiffness", "geardyn modes", "geardyn transmission"):
+    for step in ("geardyn stiffness", "geardyn modes", "geardyn transmission",
+                 "geardyn diagnose"):
         assert step in res.output
+    # the fault-to-verdict step ends with a localised alarm and the report's path
+    assert "alarm on: planetary.sun" in res.output and "alarms match" in res.output
+    assert "report.html" in res.output
 
 
 @pytest.mark.parametrize(

@@ -249,5 +249,5 @@ def test_isolation_evidence_is_reported_apart_from_the_worst_detection_indicator
     row_ = v.table().iloc[0]
     assert row_["worst_indicator"] == "FM4" and row_["isolation"] == "SDR"
     assert row_["isolation_margin"] == 4.5
-    assert [is_isolation_measure(n) for n in ("SDR", "SDR_TE", "BPFO share", "acc:SDR", "FM4",
-                                              "SER")] == [True, True, True, True, False, False]
+    names = ("SDR", "SDR_TE", "BPFO concentration", "acc:SDR", "FM4", "SER")
+    assert [is_isolation_measure(n) for n in names] == [True, True, True, True, False, False]

@@ -109,3 +109,24 @@ def test_isolation_rules():
     assert v.components["out"].state == "healthy"  # rose, but not synchronous (rule 1)
     assert "SDR" in v.components["out"].indicators
     assert any("mid/z71" in n for n in notes) and any("shaft alarm explained" in n for n in notes)
+
+
+def test_isolation_planetary_stage_and_unknown():
+    """Members of one planetary stage are seen through one sensor path: only those above half
+    the largest margin keep an alarm; a member in detection alarm without an SDR (too few own
+    revolutions) is unknown, not in alarm."""
+    comps = {
+        "st.sun": ComponentVerdict("st.sun", "sun", "alarm", {"FM4": _iv(3.0)}),
+        "st.ring": ComponentVerdict("st.ring", "ring", "alarm", {"FM4": _iv(2.0)}),
+        "st.planet1": ComponentVerdict("st.planet1", "planet", "alarm", {"FM4": _iv(2.0)}),
+    }
+    v = Verdict(machine="m", channels=["acc"], rule=None, components=comps)
+    ev = {"st.sun": Evidence("st.sun", "SDR", 9.5, 1.0, 0.01, 2.0),
+          "st.ring": Evidence("st.ring", "SDR", 2.4, 1.0, 0.01, 2.0)}
+    items = [SimpleNamespace(name="st.sun", abs_ratio=0.81, stage="st"),
+             SimpleNamespace(name="st.ring", abs_ratio=0.19, stage="st"),
+             SimpleNamespace(name="st.planet1", abs_ratio=0.48, stage="st")]
+    isolate(v, ev, SimpleNamespace(items=items))
+    assert v.alarms == ["st.sun"]
+    assert v.components["st.ring"].state == "healthy"
+    assert v.components["st.planet1"].state == "unknown"

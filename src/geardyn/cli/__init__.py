@@ -1,4 +1,5 @@
-"""Command-line interface: ``geardyn kinematics|stiffness|modes|simulate|analyze|sweep|demo``.
+"""Command-line interface: ``geardyn kinematics|stiffness|modes|simulate|transmission|analyze|
+diagnose|demo``.
 
 Each command lives in its own module and registers itself on :data:`app`; the CLI only calls
 the public Python API. Errors from geardyn are printed as one clear message (exit code 2).

@@ -40,7 +40,7 @@ COMMAND_EXAMPLES = [
 
 
 #: Last demo step: fault to verdict (example, ``geardyn diagnose`` options for a short run).
-DIAGNOSIS_EXAMPLE = ("seed004_diagnose_sun_crack.toml", ["--t-end", "10", "--seeds", "0,1"])
+DIAGNOSIS_EXAMPLE = ("seed004_diagnose_sun_crack.toml", ["--t-end", "30", "--seeds", "0,1,2"])
 
 
 def examples_dir() -> Path:

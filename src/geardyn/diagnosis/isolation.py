@@ -333,8 +333,10 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks, 
     return out
 
 
-#: Members sharing an own angle keep an alarm only above this fraction of the largest margin
-#: (measured, seed 002, 1 mm crack on the z 42 pinion: TE SDR margins 42 (z 42) and 14 (z 53)).
+#: Members sharing an own angle or a planetary stage keep an alarm only above this fraction of
+#: the largest margin (measured, seed 002, 1 mm crack on the z 42 pinion: TE SDR margins 42
+#: (z 42) and 14 (z 53); seed 004 sun crack over 2.6 carrier revolutions: sun 4.75, ring just
+#: above 1).
 SAME_ANGLE_RELATIVE = 0.5
 
 #: A bearing's best line family must concentrate the envelope increase on its comb at least
@@ -384,10 +386,15 @@ def isolate(verdict, evidence: dict[str, Evidence], components=None) -> list[str
        isolates); a bearing in alarm whose line share does not pass becomes ``healthy`` (its
        envelope lines rose, but they explain little of the change);
     2. toothed members in alarm that share an own angle (the wheels of one shaft, judged on
-       the transmission error of their own meshes; the planets of a stage) keep their alarm only
-       if their margin is at least :data:`SAME_ANGLE_RELATIVE` of the largest — the fault's own
-       mesh shows it most, the neighbour's mesh only through the shaft's torsion;
-    3. a shaft in alarm whose own angle is that of a toothed member also in alarm (a ring
+       the transmission error of their own meshes) or a planetary stage (sun, ring and planets
+       seen through one sensor path) keep their alarm only if their margin is at least
+       :data:`SAME_ANGLE_RELATIVE` of the largest — the fault's own mesh or member shows it
+       most; a neighbour shows it through the shaft's torsion, or, over few carrier
+       revolutions, through nearly commensurate fault periods (a sun fault's 3·83/19 = 13.105
+       impulses per carrier revolution look almost carrier-synchronous over two revolutions);
+    3. a rotating member whose detection indicators alarm but that has no SDR (fewer than 2
+       own revolutions in the record) becomes ``unknown``: detection alone does not localise;
+    4. a shaft in alarm whose own angle is that of a toothed member also in alarm (a ring
        turning with the carrier, a wheel on the shaft) yields to that member, the more specific
        explanation (its mesh orders are removed in its domain).
 
@@ -416,14 +423,24 @@ def isolate(verdict, evidence: dict[str, Evidence], components=None) -> list[str
             notes.append(f"{name}: detection indicators rose but {ev.measure} = {ev.value:.3g} "
                          f"≤ {ev.threshold:.3g}: its lines explain little of the change "
                          "(isolation)")
+    if evidence:  # rotating members without evidence: too few own revolutions to isolate
+        rotating = [n for n, cv in verdict.components.items()
+                    if cv.kind in ROTATING and n not in evidence and cv.state == "alarm"]
+        if any(e.measure.startswith("SDR") for e in evidence.values()):
+            for n in rotating:
+                verdict.components[n].state = "unknown"
+                notes.append(f"{n}: detection indicators rose, but the record holds fewer than 2 "
+                             "whole revolutions of its own angle against the baselines, so the "
+                             "change cannot be isolated (state unknown: record longer)")
     if components is not None:
         ratio = {c.name: round(c.abs_ratio, 9) for c in components.items}
+        stage = {c.name: getattr(c, "stage", None) for c in components.items}
         members = [n for n, cv in verdict.components.items()
                    if cv.state == "alarm" and cv.kind in ("wheel", "sun", "ring", "planet")]
-        groups: dict[float, list[str]] = {}
+        groups: dict[object, list[str]] = {}
         for m in members:
             if m in evidence and ratio.get(m) is not None:
-                groups.setdefault(ratio[m], []).append(m)
+                groups.setdefault(stage.get(m) or ratio[m], []).append(m)
         for group in groups.values():
             margin = {m: evidence[m].value / evidence[m].threshold for m in group}
             top = max(margin.values())

@@ -83,9 +83,10 @@ class ComponentVerdict:
 
 def is_isolation_measure(name: str) -> bool:
     """True for the evidence that :func:`geardyn.diagnosis.isolation.isolate` adds: the
-    synchronous deviation ratios ``SDR``/``SDR_*`` and bearing line shares ``'<LINE> share'``."""
+    synchronous deviation ratios ``SDR``/``SDR_*`` and bearing line-comb concentrations
+    ``'<LINE> concentration'``."""
     key = name.rpartition(":")[2]
-    return key == "SDR" or key.startswith("SDR_") or key.endswith(" share")
+    return key == "SDR" or key.startswith("SDR_") or key.endswith(" concentration")
 
 
 @dataclass
