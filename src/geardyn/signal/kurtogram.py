@@ -22,27 +22,17 @@ from __future__ import annotations
 
 import numpy as np
 import xarray as xr
-from scipy import signal as sps
 
 from geardyn.errors import InputError
 from geardyn.signal._checks import array1d, positive, positive_int
+from geardyn.signal.spectra import hann_stft
 
 #: Fewest STFT segments for an SK estimate (its standard deviation is ≈ 2/√K for noise).
 MIN_SEGMENTS = 16
 
 
 def _sk(a: np.ndarray, fs: float, nperseg: int, overlap: float) -> tuple[np.ndarray, np.ndarray]:
-    noverlap = int(round(nperseg * overlap))
-    f, _, z = sps.stft(
-        a - a.mean(),
-        fs=fs,
-        window="hann",
-        nperseg=nperseg,
-        noverlap=noverlap,
-        boundary=None,
-        padded=False,
-        detrend=False,
-    )
+    f, _, z = hann_stft(a, fs, nperseg, overlap)
     p2 = np.mean(np.abs(z) ** 2, axis=1)
     p4 = np.mean(np.abs(z) ** 4, axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):

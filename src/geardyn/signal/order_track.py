@@ -22,11 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
-from scipy import signal as sps
 
 from geardyn.errors import InputError
 from geardyn.signal._checks import array1d, positive, positive_int
 from geardyn.signal.resample import AngleSignal, angle_from_speed, resample_to_angle
+from geardyn.signal.spectra import hann_stft
 
 
 def order_amplitudes(
@@ -170,17 +170,7 @@ def speed_from_order(
     n = positive_int("nperseg", nperseg, "segment length", minimum=16)
     if n > a.size:
         raise InputError(f"nperseg: {n} exceeds the signal length {a.size}")
-    noverlap = int(round(n * overlap))
-    freq, tt, z = sps.stft(
-        a - a.mean(),
-        fs=f,
-        window="hann",
-        nperseg=n,
-        noverlap=noverlap,
-        boundary=None,
-        padded=False,
-        detrend=False,
-    )
+    freq, tt, z = hann_stft(a, f, n, overlap)
     mag = np.log(np.abs(z) + 1e-300)
     df = freq[1] - freq[0]
     lo, hi = o * lo_rpm / 60.0, o * hi_rpm / 60.0

@@ -171,3 +171,13 @@ def order_speed_map(
     out = angular_spectrogram(sig.x, samples_per_rev, revs_per_segment, overlap, speed=rpm)
     out.coords["speed"].attrs["units"] = "rpm"
     return out
+
+
+def hann_stft(x: np.ndarray, fs: float, nperseg: int, overlap: float):  # noqa: ANN201
+    """Complex STFT ``(f, t, Z)`` of the mean-removed ``x``: Hann window, ``overlap`` fraction,
+    no boundary padding or detrending (the common core of the kurtogram and order tracking)."""
+    from scipy import signal as sps
+
+    return sps.stft(x - x.mean(), fs=fs, window="hann", nperseg=nperseg,
+                    noverlap=int(round(nperseg * overlap)), boundary=None, padded=False,
+                    detrend=False)
