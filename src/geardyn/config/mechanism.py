@@ -412,22 +412,50 @@ class Mechanism(_Model):
             pair_names.add(m.name)
             meshes.append(m)
 
+        # Axis levels are labels joined by a union-find: a stage saying "these links are coaxial"
+        # merges the labels they already carry, so a shaft shared by several stages keeps one
+        # axis whatever the declaration order (issue 11). Labels typed by the user (turning
+        # pairs, a stage's ``axis``) are never merged with each other: that stays an error.
         joint_axis: dict[frozenset[str], str] = {}
+        parent: dict[str, str] = {}
+        explicit: set[str] = {str(tp.axis) for tp in self.turning_pairs}
+        explicit |= {st.axis for st in self.planetary if st.axis is not None}
+
+        def find(label: str) -> str:
+            parent.setdefault(label, label)
+            while parent[label] != label:
+                parent[label] = parent[parent[label]]
+                label = parent[label]
+            return label
+
+        def merge(a: str, b: str) -> bool:
+            """Join two axis labels; False when both are distinct user-given labels."""
+            ra, rb = find(a), find(b)
+            if ra == rb:
+                return True
+            if ra in explicit and rb in explicit:
+                return False
+            if rb in explicit:
+                ra, rb = rb, ra
+            parent[rb] = ra  # a user-given label, else the stage's own, names the merged axis
+            return True
 
         def add_joint(a: str, b: str, axis: str, where: str, reuse: bool = False) -> str:
             key = frozenset((a, b))
             if key in joint_axis:
+                got = find(joint_axis[key])
                 if reuse:
-                    return joint_axis[key]
-                if joint_axis[key] != axis:
+                    return got
+                if got != find(axis):
                     problems.append(
                         f"{where}: turning pair {a}–{b} given twice with different axis levels "
-                        f"('{joint_axis[key]}' and '{axis}'); two links turn about one axis only"
+                        f"('{got}' and '{axis}'); two links turn about one axis only"
                     )
-                return joint_axis[key]
+                return got
+            find(axis)
             joint_axis[key] = axis
             joints.append(TurningJoint(a, b, axis))
-            return axis
+            return find(axis)
 
         # general form
         for i, tp in enumerate(self.turning_pairs):
@@ -497,19 +525,14 @@ class Mechanism(_Model):
             for lk in (st.sun, st.ring, st.carrier):
                 need(lk, where)
             central = [x for x in (st.sun, st.ring, st.carrier) if x != support]
-            axis = st.axis
-            if axis is None:
-                for x in central:
-                    if frozenset((x, support)) in joint_axis:
-                        axis = joint_axis[frozenset((x, support))]
-                        break
-            axis = axis or f"{st.name}.central"
+            axis = st.axis or f"{st.name}.central"
             for x in central:
                 got = add_joint(x, support, axis, where, reuse=True)
-                if got != axis:
+                if not merge(axis, got):
                     problems.append(
-                        f"{where}: '{x}' already turns in '{support}' about axis '{got}', not the "
-                        f"stage's central axis '{axis}'"
+                        f"{where}: '{x}' already turns in '{support}' about axis '{find(got)}', "
+                        f"not the stage's central axis '{find(axis)}' (both axis levels are "
+                        "given explicitly; the central members of a stage share one axis)"
                     )
             planets = st.planet_names()
             for p in planets:
@@ -564,6 +587,21 @@ class Mechanism(_Model):
                     ring_wheel=f"{st.name}.ring",
                 )
             )
+
+        # canonical axis labels, then: the two wheels of a parallel or bevel stage may not have
+        # been made coaxial by a planetary stage
+        joints = [TurningJoint(j.link_a, j.link_b, find(j.axis)) for j in joints]
+        for st in [*self.parallel, *self.bevel]:
+            support = st.support or self.frame
+            ka, kb = frozenset((st.a.link, support)), frozenset((st.b.link, support))
+            if ka in joint_axis and kb in joint_axis and find(joint_axis[ka]) == find(
+                joint_axis[kb]
+            ):
+                problems.append(
+                    f"stage '{st.name}': '{st.a.link}' and '{st.b.link}' turn about the same axis "
+                    f"'{find(joint_axis[ka])}' in '{support}' (a planetary stage makes them "
+                    "coaxial), so they cannot mesh as a parallel or bevel pair"
+                )
 
         # bearings on turning pairs
         bnames: set[str] = set()
