@@ -1,13 +1,118 @@
 """Command-line interface: ``geardyn kinematics|stiffness|modes|simulate|transmission|analyze|
-diagnose|demo``.
+diagnose|demo|init|schema``.
 
-Each command lives in its own module and registers itself on :data:`app`; the CLI only calls
-the public Python API. Errors from geardyn are printed as one clear message (exit code 2).
+Each command lives in its own module and registers itself on :data:`app` with
+``@app.command("name")``. The modules are imported lazily: :data:`COMMANDS` maps each command
+name to its module and a one-line summary (shown by ``geardyn --help`` without importing
+anything), so ``geardyn --help`` and every command import only what they use. To add a
+command, write its module and add ONE line to :data:`COMMANDS`.
+
+Errors from geardyn are printed as one clear message (exit code 2).
 """
 
 from __future__ import annotations
 
+import importlib
+import math
+import re
+from typing import Any
+
 import typer
+from typer.core import TyperCommand, TyperGroup
+
+#: command name → (module registering it with ``@app.command(name)``, one-line summary).
+COMMANDS: dict[str, tuple[str, str]] = {
+    "kinematics": ("geardyn.cli.kinematics",
+                   "Degrees of freedom, carriers, velocity ratios and characteristic frequencies."),
+    "stiffness": ("geardyn.cli.stiffness",
+                  "Gear-pair geometry and potential-energy mesh stiffness."),
+    "modes": ("geardyn.cli.modes", "Natural frequencies and mode types of the planetary model."),
+    "simulate": ("geardyn.cli.simulate", "Time simulation of the config's dynamic model."),
+    "transmission": ("geardyn.cli.transmission",
+                     "Modes and time simulation of the FE transmission (seed 002)."),
+    "analyze": ("geardyn.cli.analyze",
+                "Order spectrum, spectrogram, TSA, cepstrum and indicators of a signal."),
+    "diagnose": ("geardyn.cli.diagnose",
+                 "Healthy baseline, thresholds and a verdict per component."),
+    "demo": ("geardyn.cli.demo", "Run the examples of the sources and print their results."),
+    "schema": ("geardyn.cli.schema", "JSON Schema of the config file (editor completion)."),
+}
+
+_UNESCAPED_BRACKET = re.compile(r"(?<!\\)\[")
+
+
+def escape_markup(text: str | None) -> str | None:
+    """Escape rich markup in a help text (``[planetary]`` is a TOML table, not a style);
+    brackets already escaped (``\\[``) stay as they are."""
+    return None if text is None else _UNESCAPED_BRACKET.sub(r"\\[", text)
+
+
+def _finite_callback(previous: Any) -> Any:
+    """A parameter callback refusing nan/inf in a float option (click accepts them), then
+    calling the option's own callback."""
+
+    def check(ctx: Any, param: Any, value: Any) -> Any:
+        values = value if isinstance(value, list | tuple) else [value]
+        for v in values:
+            if isinstance(v, float) and not math.isfinite(v):
+                raise typer.BadParameter(f"must be a finite number, got {v}", param=param)
+        return previous(ctx, param, value) if previous is not None else value
+
+    return check
+
+
+def _finish(cmd: Any) -> Any:
+    """Escape the help texts and make every float option refuse non-finite numbers."""
+    if getattr(cmd, "_geardyn_finished", False):
+        return cmd
+    cmd.help = escape_markup(cmd.help)
+    cmd.short_help = escape_markup(cmd.short_help)
+    for param in cmd.params:
+        if getattr(param, "help", None):
+            param.help = escape_markup(param.help)
+        annotation = getattr(getattr(param, "type_descriptor", None), "annotation", None)
+        if "float" in str(annotation):
+            param.callback = _finite_callback(param.callback)
+    cmd._geardyn_finished = True
+    return cmd
+
+
+class LazyGroup(TyperGroup):
+    """A typer group whose commands are imported on first use (see :data:`COMMANDS`)."""
+
+    _listing = False
+
+    def list_commands(self, ctx: Any) -> list[str]:
+        return list(COMMANDS) + [n for n in self.commands if n not in COMMANDS]
+
+    def get_command(self, ctx: Any, cmd_name: str) -> Any | None:
+        if cmd_name in self.commands:
+            return _finish(self.commands[cmd_name])
+        if cmd_name not in COMMANDS:
+            return None
+        module, summary = COMMANDS[cmd_name]
+        if self._listing:  # the group's help: the summary, without importing the module
+            return TyperCommand(cmd_name, help=summary, short_help=summary)
+        importlib.import_module(module)
+        from typer.main import get_command_from_info
+
+        for info in app.registered_commands:
+            if info.name == cmd_name:
+                cmd = get_command_from_info(
+                    info, pretty_exceptions_short=app.pretty_exceptions_short,
+                    rich_markup_mode=app.rich_markup_mode,
+                )
+                self.commands[cmd_name] = cmd
+                return _finish(cmd)
+        return None
+
+    def format_help(self, ctx: Any, formatter: Any) -> None:
+        self._listing = True
+        try:
+            super().format_help(ctx, formatter)
+        finally:
+            self._listing = False
+
 
 app = typer.Typer(
     name="geardyn",
@@ -15,8 +120,8 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    cls=LazyGroup,
 )
-
 
 
 def _version(value: bool) -> None:
@@ -41,14 +146,4 @@ def _main(
     DEBUG["on"] = debug or bool(os.environ.get("GEARDYN_DEBUG"))
 
 
-# Command modules register themselves on import (one line each).
-from geardyn.cli import analyze as _analyze  # noqa: E402,F401
-from geardyn.cli import demo as _demo  # noqa: E402,F401
-from geardyn.cli import diagnose as _diagnose  # noqa: E402,F401
-from geardyn.cli import kinematics as _kinematics  # noqa: E402,F401
-from geardyn.cli import modes as _modes  # noqa: E402,F401
-from geardyn.cli import simulate as _simulate  # noqa: E402,F401
-from geardyn.cli import stiffness as _stiffness  # noqa: E402,F401
-from geardyn.cli import transmission as _transmission  # noqa: E402,F401
-
-__all__ = ["app"]
+__all__ = ["COMMANDS", "app"]

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import functools
+import math
 import os
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TypeVar
 
 import click
@@ -13,7 +15,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
-from geardyn.errors import GeardynError
+from geardyn.errors import GeardynError, InputError
 
 # Tables are wide: when output is not a terminal (pipes, files, CI logs) do not wrap at 80.
 _WIDTH = None if sys.stdout.isatty() or os.environ.get("COLUMNS") else 200
@@ -42,7 +44,7 @@ def friendly_errors(func: F) -> F:
                 f"[bold red]error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True
             )
             raise typer.Exit(code=2) from None
-        except (typer.Exit, typer.Abort, click.exceptions.ClickException):
+        except (typer.Exit, typer.Abort, typer.TyperException, click.exceptions.ClickException):
             raise
         except KeyboardInterrupt:
             err_console.print("[bold yellow]interrupted[/]", highlight=False)
@@ -61,14 +63,69 @@ def friendly_errors(func: F) -> F:
 
 
 def parse_assignments(items: list[str] | None, what: str = "input") -> dict[str, float]:
-    """Parse ``NAME=NUMBER`` items (e.g. ``--input motor=1498.5``)."""
+    """Parse ``NAME=SPEED`` items (e.g. ``--input motor=1498.5``, rpm, or with a unit:
+    ``motor=25Hz``); non-finite speeds and speeds over 1e6 rpm are refused."""
     out: dict[str, float] = {}
     for item in items or []:
         if "=" not in item:
             raise typer.BadParameter(f"{what} '{item}': expected NAME=NUMBER, e.g. motor=1500")
         name, _, value = item.partition("=")
         try:
-            out[name.strip()] = float(value)
+            number = float(value)
         except ValueError:
-            raise typer.BadParameter(f"{what} '{item}': '{value}' is not a number") from None
+            from geardyn.config.units import to_unit
+
+            try:
+                number = to_unit(value, "rpm", "a rotational speed")
+            except ValueError as exc:
+                raise typer.BadParameter(f"{what} '{item}': {exc}") from None
+        if not math.isfinite(number):
+            raise typer.BadParameter(f"{what} '{item}': must be a finite number")
+        if abs(number) > 1e6:
+            raise typer.BadParameter(f"{what} '{item}': {number:g} rpm is implausible "
+                                     "(limit 1e6 rpm)")
+        out[name.strip()] = number
     return out
+
+
+def check_output_file(path: Path, option: str) -> None:
+    """Refuse, before any work, an output file that cannot be written: a missing or read-only
+    directory, or a path that is a directory."""
+    if path.is_dir():
+        raise InputError(f"{option}: '{path}' is a directory, expected a file name")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{option}: directory '{parent}' does not exist")
+    if not os.access(parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise InputError(f"{option}: '{path}' is not writable")
+
+
+def check_output_dir(path: Path, option: str) -> None:
+    """Refuse, before any work, an output directory that cannot be created or written."""
+    if path.exists():
+        if not path.is_dir():
+            raise InputError(f"{option}: '{path}' exists and is not a directory")
+        if not os.access(path, os.W_OK):
+            raise InputError(f"{option}: directory '{path}' is not writable")
+        return
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{option}: parent directory '{parent}' does not exist")
+    if not os.access(parent, os.W_OK):
+        raise InputError(f"{option}: cannot create '{path}' (parent not writable)")
+
+
+def check_number(value: float | None, option: str, *, gt: float | None = None,
+                 ge: float | None = None, le: float | None = None, unit: str = "") -> None:
+    """A CLI number: finite and within its range, else an InputError naming the option."""
+    if value is None:
+        return
+    u = f" {unit}" if unit else ""
+    if not math.isfinite(value):
+        raise InputError(f"{option}: must be a finite number, got {value}")
+    if gt is not None and not value > gt:
+        raise InputError(f"{option}: must be > {gt:g}{u}, got {value:g}")
+    if ge is not None and not value >= ge:
+        raise InputError(f"{option}: must be ≥ {ge:g}{u}, got {value:g}")
+    if le is not None and not value <= le:
+        raise InputError(f"{option}: must be ≤ {le:g}{u}, got {value:g}")

@@ -10,11 +10,13 @@ from typing import Any
 from pydantic import Field, ValidationError, model_validator
 
 from geardyn.config.diagnosis import DiagnosisSpec
+from geardyn.config.dynamics import Dynamics, check_dynamics
 from geardyn.config.gears import GearGeometryConfig, check_gear_geometry
 from geardyn.config.mechanism import Mechanism
 from geardyn.config.planetary import PlanetaryDynamics, check_planetary_dynamics
 from geardyn.config.sensors import SensorSpec, check_sensors
 from geardyn.config.transmission import TransmissionConfig, check_transmission
+from geardyn.config.units import convert_units
 from geardyn.errors import ConfigError
 
 
@@ -75,6 +77,17 @@ class GeardynConfig(Mechanism):
         None, description="baseline, thresholds and verdict (see geardyn.config.diagnosis)"
     )
 
+    dynamics: Dynamics | None = Field(
+        None, description="general torsional model of the mechanism (see geardyn.config.dynamics)"
+    )
+
+    @model_validator(mode="after")
+    def _check_dynamics(self) -> GeardynConfig:
+        problems = check_dynamics(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
+
 
 def _loc_to_path(loc: tuple[Any, ...], data: Any) -> str:
     parts: list[str] = []
@@ -124,7 +137,15 @@ def format_validation_error(exc: ValidationError, data: Any) -> list[str]:
 
 
 def parse_config(data: Mapping[str, Any], source: str | None = None) -> GeardynConfig:
-    """Validate a config held in a mapping (e.g. parsed TOML)."""
+    """Validate a config held in a mapping (e.g. parsed TOML).
+
+    Numbers may be written as strings with a unit (``"3 mm"``): a first pass converts them to
+    the unit in the field's name and refuses wrong dimensions and implausible magnitudes
+    (:mod:`geardyn.config.units`), naming the field."""
+    problems: list[str] = []
+    data = convert_units(data, problems=problems)
+    if problems:
+        raise ConfigError(problems, source=source)
     try:
         return GeardynConfig.model_validate(dict(data))
     except ValidationError as exc:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 
 class _M(BaseModel):
@@ -30,6 +30,20 @@ class MemberParams(_M):
         None, gt=0, description="planet tip radius (m), used to check that planets fit")
 
 
+class MeshLoadLaw(_M):
+    """Load-dependent square-wave mesh (seed 003 §1.2 item 5): c(F) = min(2, c₀ + 2ρ·min(δ/C_a,
+    1)) with δ = F/k̄₀, and k ∝ (F/F_ref)^n. F is the static mesh force of the run's loads."""
+
+    tip_relief_m: float = Field(gt=0, description="tip relief depth C_a (m)")
+    relief_roll_ratio: float = Field(0.25, gt=0, le=0.5, description="relief roll length / "
+                                     "base pitch at each end (ρ)")
+    reference_force_n: float | None = Field(None, gt=0, description="force at which k_max and "
+                                            "k_min are given (N), with stiffness_exponent")
+    stiffness_exponent: float = Field(0.0, ge=0, le=1, description="k ∝ (F/F_ref)^n")
+    force_n: float | None = Field(None, gt=0, description="mesh force (N) instead of the static "
+                                  "solution of the run's loads")
+
+
 class MeshParams(_M):
     """Mesh stiffness along the line of action (N/m).
 
@@ -47,9 +61,14 @@ class MeshParams(_M):
     contact_ratio: float | None = Field(None, ge=1, le=2)
     amplitude: float = Field(0.0, ge=0, lt=1, description="sine: relative amplitude")
     damping_ns_per_m: float = Field(0.0, ge=0, description="viscous mesh damping (N·s/m)")
+    load_law: MeshLoadLaw | None = Field(
+        None, description="square only, opt-in: contact ratio (and stiffness) rising with the "
+        "static mesh force (geardyn.models.planetary.loads.loaded_square_mesh)")
 
     @model_validator(mode="after")
     def _check(self) -> MeshParams:
+        if self.load_law is not None and self.model != "square":
+            raise ValueError(f"load_law needs model 'square' (got '{self.model}')")
         if self.model in ("constant", "sine") and self.stiffness_n_per_m is None:
             raise ValueError(f"model '{self.model}' needs stiffness_n_per_m (N/m)")
         if self.model == "square":
@@ -70,6 +89,16 @@ class FaultParams(_M):
     spall_depth_m: float = Field(0.0, ge=0, description="spall depth D (m)")
     spall_centre: float = Field(0.6, gt=0, lt=1, description="fraction of the path of contact")
     spall_half_width: float = Field(0.05, gt=0, lt=1, description="fraction of the path")
+
+
+class PlanetPassForce(_M):
+    """Seed 003 eq 4.13-4.14: Σ_n w_n U_n F_n Σ_h a_h cos(h z_r(θ_c − ψ_n)) on the ring."""
+
+    amplitude_n: float | None = Field(None, gt=0, description="F_n (N); default: the static "
+                                      "ring-planet mesh force of the run's loads")
+    harmonics: list[float] = Field(default_factory=lambda: [1.0], min_length=1,
+                                   description="relative amplitude of mesh harmonics 1, 2, …")
+    sensor_angle_deg: float = Field(0.0, description="sensor position on the ring (deg)")
 
 
 class StageDynamics(_M):
@@ -106,6 +135,13 @@ class StageDynamics(_M):
     sun_ring_phase: float = Field(0.0, description="γ_rs (mesh cycles), seed 004 Table 4-2")
     pin_errors_m: list[float] | None = Field(
         None, description="tangential planet pin position errors e_i (m), seed 003 eq 5.4")
+    gravity_m_per_s2: float = Field(0.0, ge=0, description="opt-in weight of the stage's "
+                                    "bodies (m/s²; 9.81 on earth), seed 003 ch. 5 §2.1.2")
+    gravity_angle_deg: float = Field(0.0, description="carrier x axis above the horizontal at "
+                                     "t = 0 (deg)")
+    planet_pass: PlanetPassForce | None = Field(
+        None, description="opt-in planet-pass ring force F_j(t) on the ring rotation DOF "
+        "(seed 003 eqs 4.10-4.14)")
 
     @model_validator(mode="after")
     def _check(self) -> StageDynamics:
@@ -133,21 +169,51 @@ class RotorDynamics(_M):
     support_nm_per_rad: float = Field(0.0, ge=0)
 
 
+def check_profile(points: list[tuple[float, float]] | None, unit: str) -> None:
+    """A piecewise-linear profile ``[[t_s, value], …]``: at least one point, times ≥ 0 and
+    strictly increasing (``np.interp`` needs sorted abscissae)."""
+    if points is None:
+        return
+    if not points:
+        raise ValueError(f"needs at least one [t_s, {unit}] point")
+    times = [t for t, _ in points]
+    if times[0] < 0:
+        raise ValueError(f"profile times must be ≥ 0 s (got {times[0]:g} s)")
+    for i in range(1, len(times)):
+        if times[i] <= times[i - 1]:
+            raise ValueError(f"profile times must increase strictly: point {i} at "
+                             f"{times[i]:g} s follows {times[i - 1]:g} s (sort the points)")
+
+
 class TorqueLoad(_M):
     """Constant or piecewise-linear torque on a body: ``profile`` = [[t_s, N·m], …]."""
 
     body: str
     torque_nm: float = 0.0
-    profile: list[tuple[float, float]] | None = None
+    profile: list[tuple[float, float]] | None = Field(
+        None, description="[[t_s, N·m], …], times increasing; overrides torque_nm")
+
+    @field_validator("profile")
+    @classmethod
+    def _sorted(cls, v: list[tuple[float, float]] | None) -> list[tuple[float, float]] | None:
+        check_profile(v, "N·m")
+        return v
 
 
 class SpeedControl(_M):
     """Imposed speed of a body through a stiff speed control (inverter-like)."""
 
     body: str
-    profile_rpm: list[tuple[float, float]] = Field(description="[[t_s, rpm], …]")
+    profile_rpm: list[tuple[float, float]] = Field(description="[[t_s, rpm], …], times "
+                                                   "increasing")
     stiffness_nm_per_rad: float = Field(gt=0)
     damping_nms_per_rad: float = Field(0.0, ge=0)
+
+    @field_validator("profile_rpm")
+    @classmethod
+    def _sorted(cls, v: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        check_profile(v, "rpm")
+        return v
 
 
 class MotorDrive(_M):
@@ -211,6 +277,14 @@ class Simulation(_M):
         default_factory=dict, description="rigid-body initial speeds (body → rpm); one body "
         "fixes the motion through the kinematics of each stage")
     torques: list[TorqueLoad] = Field(default_factory=list)
+
+    @field_validator("support_damping")
+    @classmethod
+    def _damping(cls, v: dict[str, float]) -> dict[str, float]:
+        bad = {k: x for k, x in v.items() if x < 0}
+        if bad:
+            raise ValueError(f"damping must be ≥ 0 N·s/m (got {bad})")
+        return v
     speed_controls: list[SpeedControl] = Field(default_factory=list)
     motor: MotorDrive | None = None
     wheel_load: WheelLoad | None = None
