@@ -48,6 +48,14 @@ def _fs_from_time(t: np.ndarray, src: str) -> float:
     return 1.0 / float(dt.mean())
 
 
+def _agree_fs(fs: float | None, rate_hz: float, src: str, origin: str) -> float:
+    """The file's own sample rate; ``fs`` given as well must agree with it (1e-6)."""
+    if fs is not None and abs(float(fs) - rate_hz) > 1e-6 * rate_hz:
+        raise InputError(f"--fs: {float(fs):g} Hz contradicts the sample rate of {src} "
+                         f"({rate_hz:g} Hz, {origin}); drop --fs or fix the file")
+    return rate_hz
+
+
 def _check_fs(fs: float | None, src: str) -> float:
     if fs is None:
         raise InputError(f"{src}: the file holds no sample rate; pass fs (Hz)")
@@ -93,8 +101,7 @@ def read_signal(
             names = [str(i) for i in range(data.shape[1])]
             i = _pick(names, channel, src)
             x, rate_hz = data[:, i], float(rate)
-            if fs is not None and abs(float(fs) - rate_hz) > 1e-9 * rate_hz:
-                raise InputError(f"fs: {fs} Hz contradicts the WAV header ({rate_hz} Hz)")
+            _agree_fs(fs, rate_hz, src, "WAV header")
         elif ext in (".csv", ".txt"):
             import pandas as pd
 
@@ -106,7 +113,8 @@ def read_signal(
                 raise InputError(f"{src}: no data column besides the time column")
             i = _pick(data_cols, channel, src)
             x = df[data_cols[i]].to_numpy(dtype=float)
-            rate_hz = _fs_from_time(df[tcol].to_numpy(), src) if tcol else _check_fs(fs, src)
+            rate_hz = (_agree_fs(fs, _fs_from_time(df[tcol].to_numpy(), src), src,
+                                 f"from its '{tcol}' column") if tcol else _check_fs(fs, src))
             names = data_cols
         elif ext == ".npy":
             data = np.load(p, allow_pickle=False)
@@ -121,7 +129,8 @@ def read_signal(
                     raise InputError(f"{src}: needs an 'x' or 'signal' array; has {list(z)}")
                 x = np.asarray(z[key], dtype=float).ravel()
                 fk = next((k for k in _FS_KEYS if k in z), None)
-                rate_hz = float(z[fk]) if fk else _check_fs(fs, src)
+                rate_hz = (_agree_fs(fs, float(z[fk]), src, f"its '{fk}' entry") if fk
+                           else _check_fs(fs, src))
                 pulses = np.asarray(z["pulse_times"], float) if "pulse_times" in z else None
                 names = [key]
         elif ext in (".nc", ".netcdf", ".h5"):
@@ -142,9 +151,11 @@ def read_signal(
                 x = np.asarray(da.values, dtype=float)
                 fk = next((k for k in _FS_KEYS if k in da.attrs or k in ds.attrs), None)
                 if fk:
-                    rate_hz = float(da.attrs.get(fk, ds.attrs.get(fk)))
+                    rate_hz = _agree_fs(fs, float(da.attrs.get(fk, ds.attrs.get(fk))), src,
+                                        f"its '{fk}' attribute")
                 elif "time" in da.coords:
-                    rate_hz = _fs_from_time(da["time"].values, src)
+                    rate_hz = _agree_fs(fs, _fs_from_time(da["time"].values, src), src,
+                                        "from its time coordinate")
                 else:
                     rate_hz = _check_fs(fs, src)
                 units = str(da.attrs.get("units", ""))

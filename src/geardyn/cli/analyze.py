@@ -18,7 +18,13 @@ import pandas as pd
 import typer
 
 from geardyn.cli import app
-from geardyn.cli.common import console, friendly_errors, parse_assignments
+from geardyn.cli.common import (
+    check_number,
+    check_output_dir,
+    console,
+    friendly_errors,
+    parse_assignments,
+)
 from geardyn.config import load_config
 from geardyn.errors import InputError
 from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
@@ -89,6 +95,12 @@ def analyze(
     from geardyn.signal.resample import angle_from_pulses
     from geardyn.signal_io import SignalRecord, read_pulse_times, read_signal
 
+    check_number(fs, "--fs", gt=0, le=1e9, unit="Hz")
+    check_number(clock, "--clock", gt=0, le=1e12, unit="Hz")
+    check_number(pulses_per_rev, "--ppr", ge=1, le=1e6)
+    check_number(ias_ppr, "--ias-ppr", ge=1, le=1e6)
+    check_number(samples_per_rev, "--samples-per-rev", ge=4, le=1 << 16)
+    check_output_dir(out, "--out")
     cfg = load_config(config)
     kin = analyze_kinematics(cfg)
     speeds = parse_assignments(speed, "--speed")
@@ -157,6 +169,10 @@ def analyze(
             if pulses_per_rev < 1:
                 raise InputError(f"--ppr: pulses per revolution must be >= 1, got {pulses_per_rev}")
             rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
+            if sim_channel is None:
+                origin = "--tacho" if tacho is not None else f"pulse_times of {signal.name}"
+                check_tacho_span(pulses, rec.x.size, rec.fs, origin)
+                check_speed_agrees(speeds, rpm, pulses_per_rev)
         freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
         max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
         if sim_channel is not None:
@@ -249,6 +265,34 @@ def analyze(
     console.print("largest orders: " + ", ".join(f"{o:.4g} ({a:.3g})" for o, a in top.items()))
     console.print(f"wrote {', '.join(sorted(figs))}, indicators.csv, markers.csv, "
                   f"order_spectrum.nc to {out}/")
+
+
+def check_tacho_span(pulses: np.ndarray, n: int, fs: float, origin: str) -> None:
+    """A tacho must cover the record: at each end, the part of the signal without pulses (or
+    the pulses beyond the signal) may not exceed two pulse intervals or 2 % of the record.
+    A tacho covering a quarter of the signal, or a wrong --fs stretching the signal, is
+    refused rather than analysed silently on part of the data."""
+    duration = (n - 1) / fs
+    tol = max(2.0 * float(np.max(np.diff(pulses))), 0.02 * duration)
+    gap_start, gap_end = float(pulses[0]), duration - float(pulses[-1])
+    if abs(gap_start) > tol or abs(gap_end) > tol:
+        lo, hi = max(0.0, float(pulses[0])), min(duration, float(pulses[-1]))
+        share = max(0.0, hi - lo) / duration if duration > 0 else 0.0
+        raise InputError(
+            f"{origin}: the pulses span {pulses[0]:.6g}–{pulses[-1]:.6g} s but the signal spans "
+            f"0–{duration:.6g} s ({n} samples at {fs:g} Hz; the pulses cover {share:.0%} of it); "
+            "a tacho must cover the whole record (tolerance "
+            f"{tol:.3g} s at each end): crop the signal to the pulses, or check --fs")
+
+
+def check_speed_agrees(speeds: dict[str, float], tacho_rpm: float, pulses_per_rev: int) -> None:
+    """``--speed`` given with a tacho must agree with the tacho's mean speed (2 %)."""
+    for link, rpm in speeds.items():
+        if abs(rpm - tacho_rpm) > 0.02 * tacho_rpm:
+            raise InputError(
+                f"--speed: {link}={rpm:g} rpm contradicts the tacho's mean speed "
+                f"{tacho_rpm:.6g} rpm (--ppr {pulses_per_rev}; tolerance 2 %); drop --speed "
+                "(the tacho gives the speed) or check --ppr")
 
 
 def _open_result(path: Path):  # noqa: ANN202 - xarray.Dataset | None
