@@ -32,6 +32,7 @@ _LAZY: dict[str, str] = {
     "KinematicAnalysis": "geardyn.kinematics",
     "analyze_kinematics": "geardyn.kinematics",
     "GeardynAccessor": "geardyn.plotting",
+    "open_dataset": "geardyn.sweep.store",
 }
 
 
@@ -84,5 +85,6 @@ __all__ = [
     "Mechanism",
     "analyze_kinematics",
     "load_config",
+    "open_dataset",
     "__version__",
 ]

@@ -36,6 +36,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
                  "Healthy baseline, thresholds and a verdict per component."),
     "demo": ("geardyn.cli.demo", "Run the examples of the sources and print their results."),
     "schema": ("geardyn.cli.schema", "JSON Schema of the config file (editor completion)."),
+    "sweep": ("geardyn.cli.sweep", "Parameter sweep on dask.distributed into a Zarr data set."),
 }
 
 _UNESCAPED_BRACKET = re.compile(r"(?<!\\)\[")

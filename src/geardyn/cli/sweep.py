@@ -1,0 +1,80 @@
+"""``geardyn sweep SPEC.toml --out DATASET.zarr``: run a parameter sweep on dask.distributed
+into one Zarr store (docs/sweeps.md). Re-running the same command resumes: finished cases are
+skipped. Exit code 0 when every case ran (whatever its status), 2 on a bad spec, 130 on
+Ctrl-C (the store keeps every finished case)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from geardyn.cli import app
+from geardyn.cli.common import console, friendly_errors
+
+
+def _rate(p) -> str:  # noqa: ANN001 - SweepProgress
+    r = p.rate_per_min
+    eta = p.eta_s
+    rate = f"{r:.3g} cases/min" if r == r else "– cases/min"
+    if eta != eta:
+        return f"{rate}, ETA –"
+    m, s = divmod(int(round(eta)), 60)
+    h, m = divmod(m, 60)
+    return f"{rate}, ETA {h:d}:{m:02d}:{s:02d}"
+
+
+@app.command("sweep")
+@friendly_errors
+def sweep_cmd(
+    spec: Path = typer.Argument(..., help="sweep spec (TOML: \\[sweep], \\[\\[axes]], "
+                                "\\[outputs])"),
+    out: Path = typer.Option(..., "--out", "-o", help="Zarr store (created, or resumed)"),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", help="address of a running dask scheduler, e.g. "
+        "tcp://10.0.0.1:8786 (default: a LocalCluster on this machine)"),
+    workers: int | None = typer.Option(
+        None, "--workers", "-n", help="LocalCluster worker processes (default: one per core)"),
+    retry_failed: bool = typer.Option(False, "--retry-failed",
+                                      help="run the cases stored as 'failed' again"),
+    check: bool = typer.Option(False, "--check", help="validate the spec and every case, "
+                               "print the case count, run nothing"),
+) -> None:
+    """Run every case of a sweep spec (axes over config paths) and store channels,
+    indicators, states and verdicts per case in one Zarr data set."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from geardyn.errors import InputError
+    from geardyn.sweep import load_spec, run
+
+    if workers is not None and workers < 1:
+        raise InputError(f"--workers: must be ≥ 1, got {workers}")
+    if workers is not None and scheduler is not None:
+        raise InputError("--workers applies to the LocalCluster; with --scheduler the cluster "
+                         "has its own workers")
+    sweep = load_spec(spec)
+    axes = ", ".join(f"{a.name} ({len(a.values)})" for a in sweep.axes)
+    console.print(f"sweep {sweep.spec.sweep.name or spec.name}: {len(sweep.cases)} cases "
+                  f"[{axes}; {sweep.spec.sweep.combine}, {sweep.spec.sweep.replicates} "
+                  "replicate(s)]", highlight=False)
+    if check:
+        console.print("spec and every case are valid; nothing run (--check)")
+        return
+    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[rate]}"),
+                  TimeElapsedColumn(), console=console, transient=True) as prog:
+        task = prog.add_task("starting", total=len(sweep.cases), rate="")
+
+        def progress(p) -> None:  # noqa: ANN001 - SweepProgress
+            prog.update(task, completed=p.skipped + p.done,
+                        description=f"done {p.skipped + p.done} (failed {p.failed}) / left "
+                        f"{p.left}", rate=_rate(p))
+
+        summary = run(sweep, out, scheduler=scheduler, n_workers=workers,
+                      retry_failed=retry_failed, progress=progress)
+    from geardyn.sweep import open_dataset
+
+    status = open_dataset(out)["status"].values
+    counts = {s: int((status == s).sum()) for s in sorted(set(status)) if s}
+    console.print(f"wrote {out}: {summary.run} case(s) run now, {summary.skipped} already "
+                  f"stored, {summary.wall_s:.1f} s; status "
+                  + ", ".join(f"{k} {v}" for k, v in counts.items()), highlight=False)

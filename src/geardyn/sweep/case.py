@@ -1,0 +1,148 @@
+"""One case of a sweep, as a dask worker runs it: simulate, measure, extract, pack.
+
+:func:`run_case` takes a plain dict (the case's validated config as a dict, its seed, the run
+overrides and the outputs to keep) and returns a plain dict of numpy arrays: no live object
+crosses the network, and the driver alone writes the store. A case that raises records
+``status = 'failed'`` and the error; it never fails the dask task.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import traceback
+from typing import Any
+
+import numpy as np
+
+#: Status of a case that raised (the run's own statuses: ok, diverged, suspect, stopped, …).
+STATUS_FAILED = "failed"
+
+
+def _decimated(values: np.ndarray, t: np.ndarray, every: int, sampling: str
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Every ``every``-th sample; a uniformly time-sampled channel is low-pass filtered first
+    (zero-phase FIR of scipy.signal.decimate: 20·every + 1 taps, Hamming window, cut-off at
+    the new Nyquist frequency)."""
+    if every == 1:
+        return values, t
+    if sampling == "time" and values.size > 60 * every:
+        from scipy.signal import decimate
+
+        return decimate(values, every, ftype="fir", zero_phase=True), t[::every]
+    return values[::every], t[::every]
+
+
+def _channel(ds: Any, name: str, every: int, samples: int) -> dict[str, Any]:
+    from geardyn.results import channel
+
+    ch = channel(ds, name)
+    vals, t = _decimated(np.asarray(ch.values, float), np.asarray(ch.time, float), every,
+                         ch.sampling)
+    dims = [f"{name}.sample"]
+    out = {f"channels.{name}": (vals[-samples:], {"units": ch.units, "long_name": name,
+                                                   "sensor_kind": ch.kind,
+                                                   "sampling": ch.sampling, "shaft": ch.shaft},
+                                dims, {}),
+           f"channels.{name}.time": (t[-samples:], {"units": "s",
+                                                     "long_name": f"{name} sample time"},
+                                     dims, {})}
+    if ch.angle is not None:
+        ang = ch.angle[::every]
+        out[f"channels.{name}.angle"] = (ang[-samples:], {
+            "units": "rad", "long_name": f"{name}: angle of shaft {ch.shaft}"}, dims, {})
+    return out
+
+
+def _states(ds: Any, names: list[str], step_s: float, n: int | None) -> dict[str, Any]:
+    """States on the grid ``k·step_s`` (linear interpolation in time); NaN past the run end."""
+    t = np.asarray(ds["time"].values, float)
+    if n is None:
+        n = int(math.floor(t[-1] / step_s + 1e-9)) + 1
+    grid = np.arange(n) * step_s
+    out: dict[str, Any] = {}
+    for v in names:
+        if v not in ds:
+            continue
+        da = ds[v]
+        other = [d for d in da.dims if d != "time"]
+        arr = np.asarray(da.transpose("time", *other).values, float)
+        res = np.full((n, *arr.shape[1:]), np.nan)
+        inside = grid <= t[-1] + 1e-12
+        for j in np.ndindex(*arr.shape[1:]):
+            res[(inside, *j)] = np.interp(grid[inside], t, arr[(slice(None), *j)])
+        coords: dict[str, Any] = {d: [str(x) for x in ds[d].values] for d in other}
+        coords["state_time"] = grid
+        out[f"state.{v}"] = (res, {"units": str(da.attrs.get("units", "")),
+                                   "long_name": str(da.attrs.get("long_name", v))},
+                             ["state_time", *other], coords)
+    return out
+
+
+def _indicators(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
+    """Per-block indicator table of the channel (geardyn.diagnosis.features) as an array
+    (component, indicator, block) and the component kinds."""
+    from geardyn.diagnosis.pipeline import _channel, _features, options
+
+    o = options(cfg, channel=opts.get("channel"), skip_s=opts.get("skip_s"),
+                blocks=opts.get("blocks"))
+    ch = _channel(ds, o.channel, "case")
+    table = _features(ds, cfg, ch, o).table
+    comps = list(dict.fromkeys(str(c) for c in table["component"]))
+    inds = list(dict.fromkeys(str(c) for c in table["indicator"]))
+    arr = np.full((len(comps), len(inds), o.blocks), np.nan)
+    ci = {c: k for k, c in enumerate(comps)}
+    ii = {c: k for k, c in enumerate(inds)}
+    for c, i, b, v in zip(table["component"], table["indicator"], table["block"],
+                          table["value"], strict=True):
+        if int(b) < o.blocks:
+            arr[ci[str(c)], ii[str(i)], int(b)] = float(v)
+    kinds = dict(zip(table["component"].astype(str), table["kind"].astype(str), strict=False))
+    return {"indicator": (arr, {"units": "1", "long_name": f"condition indicators of channel "
+                                f"{ch} per block", "channel": ch},
+                          ["component", "indicator", "block"],
+                          {"component": comps, "indicator": inds,
+                           "block": list(range(o.blocks))}),
+            "_kinds": kinds}
+
+
+def run_case(task: dict[str, Any]) -> dict[str, Any]:
+    """Run one case (called on a dask worker). ``task``: ``index``, ``seed``, ``config``
+    (validated config dict), ``run`` (run_simulation overrides), ``outputs`` (OutputSpec as a
+    dict), ``state_samples`` (length of the state grid or None). Returns ``index``, ``status``,
+    ``message``, ``wall_time_s`` and ``arrays``."""
+    t0 = time.perf_counter()
+    out: dict[str, Any] = {"index": task["index"], "status": STATUS_FAILED, "message": "",
+                           "arrays": {}, "kinds": {}}
+    try:
+        from geardyn.config.loader import parse_config
+        from geardyn.run import run_simulation
+
+        cfg = parse_config(task["config"], source=f"case {task['index']}")
+        run = {k: v for k, v in task["run"].items() if v is not None}
+        ds = run_simulation(cfg, seed=int(task["seed"]), **run)
+        status = str(ds.attrs.get("status", "ok"))
+        out["status"] = status
+        out["message"] = str(ds.attrs.get("diagnosis", "")) if status != "ok" else ""
+        outputs = task["outputs"]
+        ch = outputs["channels"]
+        for name in ch["names"]:
+            out["arrays"].update(_channel(ds, name, ch["every"], ch["samples"]))
+        st = outputs["states"]
+        out["arrays"].update(_states(ds, st["variables"], st["step_s"], task.get("state_samples")))
+        if outputs["indicators"]["enabled"] and status == "ok":
+            try:
+                ind = _indicators(ds, cfg, outputs["indicators"])
+            except Exception as exc:  # noqa: BLE001 - recorded in the store, sweep goes on
+                out["status"] = STATUS_FAILED
+                out["message"] = f"indicators: {type(exc).__name__}: {exc}"
+            else:
+                out["kinds"] = ind.pop("_kinds")
+                out["arrays"].update(ind)
+    except Exception as exc:  # noqa: BLE001 - a failing case records its error
+        out["status"] = STATUS_FAILED
+        last = traceback.extract_tb(exc.__traceback__)[-1] if exc.__traceback__ else None
+        where = f" (at {last.filename.rsplit('/', 1)[-1]}:{last.lineno})" if last else ""
+        out["message"] = f"{type(exc).__name__}: {exc}{where}"
+    out["wall_time_s"] = time.perf_counter() - t0
+    return out

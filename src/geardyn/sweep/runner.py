@@ -1,0 +1,243 @@
+"""Run a sweep on ``dask.distributed``: a LocalCluster (one single-threaded worker process per
+core, each under a nanny) or an existing cluster, results written by the driver as cases end.
+
+Resume: cases whose ``status`` is set in the store are skipped, so re-running the command after
+an interruption (Ctrl-C, a killed driver) finishes the sweep; a worker killed mid-case is
+restarted by its nanny and the scheduler runs the case again (up to
+``distributed.scheduler.allowed-failures`` times, then the case is recorded ``failed``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import signal
+import time
+import uuid
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import xarray as xr
+
+from geardyn.errors import InputError
+from geardyn.sweep import store
+from geardyn.sweep.case import STATUS_FAILED, run_case
+from geardyn.sweep.spec import Sweep, load_spec
+
+#: Environment of LocalCluster workers: one thread for BLAS, OpenMP and numba per process.
+WORKER_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+              "NUMBA_NUM_THREADS": "1"}
+
+
+@dataclass
+class SweepProgress:
+    """Counts passed to the progress callback after each case."""
+
+    total: int
+    skipped: int
+    done: int = 0
+    failed: int = 0
+    started: float = 0.0
+
+    @property
+    def left(self) -> int:
+        return self.total - self.skipped - self.done
+
+    @property
+    def rate_per_min(self) -> float:
+        dt = time.perf_counter() - self.started
+        return 60.0 * self.done / dt if dt > 0 and self.done else float("nan")
+
+    @property
+    def eta_s(self) -> float:
+        r = self.rate_per_min
+        return 60.0 * self.left / r if r == r and r > 0 else float("nan")
+
+
+@dataclass
+class SweepSummary:
+    """What a run did: store path, cases run now, skipped (already done), failed now."""
+
+    out: Path
+    total: int
+    run: int
+    skipped: int
+    failed: int
+    wall_s: float
+
+
+@contextlib.contextmanager
+def _deferred_sigint() -> Iterator[None]:
+    """Hold Ctrl-C while a case is written (raised right after): a case is stored whole or
+    not at all, whatever the moment of the interrupt."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    old = signal.signal(signal.SIGINT, lambda s, f: caught.append(s))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+    if caught:
+        raise KeyboardInterrupt
+
+
+def _state_samples(sweep: Sweep) -> int | None:
+    """Length of the state grid: up to the longest planetary run of the sweep (None when a
+    case has no planetary simulation: the first result sets it)."""
+    import math
+
+    step = sweep.spec.outputs.states.step_s
+    if not sweep.spec.outputs.states.variables:
+        return None
+    longest = 0.0
+    for case in sweep.cases:
+        if case.replicate:
+            continue
+        pd = sweep.case_config(case).get("planetary_dynamics") or {}
+        sim = pd.get("simulation")
+        if not sim:
+            return None
+        longest = max(longest, sweep.spec.run.t_end_s or sim["t_end_s"])
+    return int(math.floor(longest / step + 1e-9)) + 1
+
+
+def _task(sweep: Sweep, i: int, state_samples: int | None) -> dict[str, Any]:
+    case = sweep.cases[i]
+    return {"index": i, "seed": case.seed, "config": sweep.case_config(case),
+            "run": sweep.spec.run.model_dump(), "outputs": sweep.spec.outputs.model_dump(),
+            "state_samples": state_samples}
+
+
+@contextlib.contextmanager
+def _client(scheduler: str | None, n_workers: int | None) -> Iterator[Any]:
+    """A dask client: to ``scheduler`` if given, else to a new LocalCluster of ``n_workers``
+    single-threaded processes (default: one per core) with nannies."""
+    import dask
+    from distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=30)
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"--scheduler: cannot reach '{scheduler}': {exc}") from None
+        try:
+            yield client
+        finally:
+            client.close()
+        return
+    n = n_workers or os.cpu_count() or 1
+    if n < 1:
+        raise InputError(f"workers: must be ≥ 1, got {n}")
+    env = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}) or {})
+    env.update(WORKER_ENV)
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": env}):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.ERROR)
+        client = Client(cluster)
+        try:
+            yield client
+        finally:
+            with contextlib.suppress(Exception):
+                client.close(timeout=10)
+            with contextlib.suppress(Exception):
+                cluster.close(timeout=10)
+
+
+def _failed(index: int, exc: BaseException) -> dict[str, Any]:
+    return {"index": index, "status": STATUS_FAILED, "arrays": {}, "kinds": {},
+            "message": f"{type(exc).__name__}: {exc}", "wall_time_s": float("nan")}
+
+
+def run(
+    spec: str | Path | Sweep,
+    out: str | Path,
+    *,
+    scheduler: str | None = None,
+    n_workers: int | None = None,
+    client: Any = None,
+    retry_failed: bool = False,
+    overrides: dict[str, Any] | None = None,
+    progress: Callable[[SweepProgress], None] | None = None,
+) -> SweepSummary:
+    """Run the sweep ``spec`` (a spec file or a :class:`Sweep`) into the Zarr store ``out``.
+
+    Cases already stored are skipped (``retry_failed``: run ``failed`` ones again); the spec
+    must be the one that made the store. ``client``: an existing ``distributed.Client``;
+    else ``scheduler`` (address of a running scheduler) or a LocalCluster of ``n_workers``
+    processes. ``overrides`` are merged into the spec file's tables (see
+    :func:`geardyn.sweep.spec.load_spec`). ``progress`` is called after each case.
+    Ctrl-C cancels the remaining cases and raises KeyboardInterrupt; the store keeps every
+    case finished so far.
+    """
+    t0 = time.perf_counter()
+    sweep = spec if isinstance(spec, Sweep) else load_spec(spec, overrides)
+    out = Path(out)
+    if out.exists():
+        store.check_same_sweep(out, sweep)
+    else:
+        if not out.parent.exists():
+            raise InputError(f"--out: directory '{out.parent}' does not exist")
+        store.create(out, sweep)
+    status = store.statuses(out)
+    todo = [i for i, s in enumerate(status)
+            if s == store.PENDING or (retry_failed and s == STATUS_FAILED)]
+    prog = SweepProgress(total=len(sweep.cases), skipped=len(sweep.cases) - len(todo),
+                         started=time.perf_counter())
+    if progress is not None:
+        progress(prog)
+    if todo:
+        with contextlib.ExitStack() as stack:
+            cl = client if client is not None else stack.enter_context(
+                _client(scheduler, n_workers))
+            _run_cases(cl, sweep, out, todo, prog, progress)
+    if sweep.spec.outputs.verdicts is not None:
+        from geardyn.sweep.verdicts import write_verdicts
+
+        write_verdicts(out, sweep.spec.outputs.verdicts)
+    return SweepSummary(out, len(sweep.cases), prog.done, prog.skipped, prog.failed,
+                        time.perf_counter() - t0)
+
+
+def _run_cases(client: Any, sweep: Sweep, out: Path, todo: list[int], prog: SweepProgress,
+               progress: Callable[[SweepProgress], None] | None) -> None:
+    from distributed import as_completed
+
+    n_state = _state_samples(sweep)
+    token = uuid.uuid4().hex[:8]
+    futures = [client.submit(run_case, _task(sweep, i, n_state), key=f"geardyn-case-{i}-{token}",
+                             pure=False) for i in todo]
+    index = {f.key: i for f, i in zip(futures, todo, strict=True)}
+    try:
+        for fut in as_completed(futures):
+            i = index[fut.key]
+            try:
+                res = fut.result()
+            except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker after retries
+                res = _failed(i, exc)
+            with _deferred_sigint():
+                if res["arrays"]:
+                    store.ensure_variables(out, res["arrays"], res.get("kinds", {}),
+                                           len(sweep.cases))
+                store.write_case(out, i, res)
+            fut.release()
+            prog.done += 1
+            prog.failed += res["status"] == STATUS_FAILED
+            if progress is not None:
+                progress(prog)
+    except BaseException:
+        for f in futures:
+            if not f.done():
+                f.cancel()
+        raise
+
+
+def open_dataset(path: str | Path) -> xr.Dataset:
+    """The data set of a sweep store (see :func:`geardyn.sweep.store.open_dataset`)."""
+    return store.open_dataset(path)
