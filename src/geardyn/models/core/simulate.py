@@ -1,0 +1,207 @@
+"""Time simulation of the ``[dynamics]`` model: drives, initial state, integration, result layout.
+
+Drives reuse the integrator's torque elements (:mod:`geardyn.solve.integrate`): speed controls,
+motor speed–torque curves (seed 004 TorM, Kloss), the fluid coupling T = q ω_m (ω_m − ω_p)
+(seed 004 eq 6.6, here on the body it drives directly: ``coupling_ratio`` 1 unless given), the
+bucket-wheel load T = T_fl G (ω/ω_ref)² s(θ) (seed 004 ch. 6) and tabulated torques. They act
+on bodies with a coordinate of their own: links turning in the frame and rotors.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from geardyn.config.dynamics import Dynamics, DynamicsSimulation
+from geardyn.errors import ConfigError, InputError
+from geardyn.models.core.graph import model_from_config
+from geardyn.models.core.model import CoreModel
+from geardyn.operating import (
+    RPM,
+    BucketWheelSchedule,
+    KlossMotor,
+    PiecewiseMotor,
+    held_profile,
+    reference_angle_table,
+)
+from geardyn.results import finish, shaft_variables
+from geardyn.solve.integrate import (
+    FLUID_COUPLING,
+    SPEED_CONTROL,
+    SPEED_SQUARED_LOAD,
+    SPEED_TORQUE,
+    IntegrationResult,
+    LinearSystem,
+)
+
+WHERE = "dynamics.simulation"
+
+
+@dataclass
+class Prepared:
+    """Model, integrator system and rigid-body initial state of a ``[dynamics]`` run."""
+
+    model: CoreModel
+    system: LinearSystem
+    q0: np.ndarray
+    v0: np.ndarray
+    t_end_s: float
+    sim: DynamicsSimulation
+
+
+def _dof(model: CoreModel, body: str, where: str) -> int:
+    b = model.body(body)
+    if b.dof is None:
+        raise ConfigError(f"{where}: '{body}' turns in another moving link, so it has no "
+                          "coordinate of its own; drives and loads act on links turning in the "
+                          "frame or on rotors")
+    return b.dof
+
+
+def _held(points: object, t_end: float, field: str, unit: str) -> tuple[np.ndarray, np.ndarray]:
+    try:
+        return held_profile(points, t_end, field, unit, stacklevel=4)
+    except InputError as e:
+        raise ConfigError(str(e)) from None
+
+
+def drive_rows(model: CoreModel, sim: DynamicsSimulation, t_end: float
+               ) -> tuple[list[dict], np.ndarray, np.ndarray]:
+    """Torque elements, force-table times (s) and forces (N·m per coordinate)."""
+    drives: list[dict] = []
+    profiles = {i: _held(t.profile, t_end, f"{WHERE}.torques[{i}].profile", "N·m")
+                for i, t in enumerate(sim.torques) if t.profile}
+    t_grid = np.array([0.0, t_end])
+    if profiles:
+        t_grid = np.linspace(0.0, max(t_end, *(ts[-1] for ts, _ in profiles.values())), 2001)
+    force = np.zeros((len(t_grid), model.n))
+    for i, t in enumerate(sim.torques):
+        j = _dof(model, t.body, f"{WHERE}.torques[{i}]")
+        force[:, j] += np.interp(t_grid, *profiles[i]) if i in profiles else t.torque_nm
+    for i, sc in enumerate(sim.speed_controls):
+        j = _dof(model, sc.body, f"{WHERE}.speed_controls[{i}]")
+        ts, rpm = _held(sc.profile_rpm, t_end, f"{WHERE}.speed_controls[{i}].profile_rpm", "rpm")
+        t_pad = 1.01 * t_end + 1e-3
+        if ts[-1] < t_pad:
+            ts, rpm = np.append(ts, t_pad), np.append(rpm, rpm[-1])
+        tt, th = reference_angle_table(ts, rpm * RPM)
+        drives.append(dict(kind=SPEED_CONTROL, a=j, p0=sc.stiffness_nm_per_rad,
+                           p1=sc.damping_nms_per_rad, x=tt, y=th))
+    if sim.motor:
+        mo = sim.motor
+        j = _dof(model, mo.rotor, f"{WHERE}.motor.rotor")
+        if mo.kind == "piecewise":
+            motor = PiecewiseMotor(mo.rated_power_w, mo.rated_speed_rpm, mo.frequency_hz,
+                                   mo.poles)
+        else:
+            motor = KlossMotor(mo.breakdown_torque_nm, mo.breakdown_slip, mo.kloss_a,
+                               mo.kloss_b, 120 * mo.frequency_hz / mo.poles)
+        wx, ty = motor.table()
+        drives.append(dict(kind=SPEED_TORQUE, a=j, x=wx, y=ty))
+        if mo.coupling_to:
+            jb = _dof(model, mo.coupling_to, f"{WHERE}.motor.coupling_to")
+            drives.append(dict(kind=FLUID_COUPLING, a=j, b=jb, p0=mo.coupling_q,
+                               p1=mo.coupling_ratio))
+    if sim.wheel_load:
+        wl = sim.wheel_load
+        if wl.inertia_schedule:
+            raise ConfigError(f"{WHERE}.wheel_load.inertia_schedule: not supported by the "
+                              "[dynamics] model (give the bucket wheel as a rotor)")
+        j = _dof(model, wl.body, f"{WHERE}.wheel_load.body")
+        sch = BucketWheelSchedule()
+        th = np.linspace(0, sch.points()["P47"] + 1.0, 4001)
+        fac = sch.load_factor(th, wl.control_ratio) if wl.schedule else np.ones(len(th))
+        w_ref = wl.control_ratio * wl.rated_speed_rpm / wl.gear_ratio * RPM
+        drives.append(dict(kind=SPEED_SQUARED_LOAD, a=j,
+                           p0=wl.full_load_torque_nm * wl.gear_ratio / w_ref**2, x=th, y=fac))
+    return drives, t_grid, force
+
+
+def rigid_velocity(model: CoreModel, speeds_rpm: dict[str, float]) -> np.ndarray:
+    """q̇ of the rigid-body motion with the given body speeds (rpm): every mesh and shaft
+    undeformed (least squares, the given speeds weighted ×1000)."""
+    if not speeds_rpm:
+        return np.zeros(model.n)
+    rows = [m.a / max(np.abs(m.a).max(), 1e-300) for m in model.meshes]
+    rows += [s.a for s in model.springs]
+    rhs = [0.0] * len(rows)
+    for body, rpm in speeds_rpm.items():
+        rows.append(model.body(body).rotation * 1e3)
+        rhs.append(rpm * RPM * 1e3)
+    sol, *_ = np.linalg.lstsq(np.array(rows), np.array(rhs), rcond=None)
+    return sol
+
+
+def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
+    """Model, system and initial state of the config's ``[dynamics.simulation]``."""
+    spec: Dynamics | None = getattr(cfg, "dynamics", None)
+    if spec is None or spec.simulation is None:
+        raise ConfigError("dynamics.simulation is missing (t_end_s, dt_s, drives)")
+    sim = spec.simulation
+    t_end = sim.t_end_s if t_end_s is None else float(t_end_s)
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise InputError(f"t_end_s: the run end must be a finite time > 0 s (got {t_end_s!r})")
+    model = model_from_config(cfg)
+    drives, t_grid, force = drive_rows(model, sim, t_end)
+    system = model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
+                          sim.contact_loss)
+    v0 = rigid_velocity(model, dict(sim.initial_speed_rpm))
+    return Prepared(model, system, np.zeros(model.n), v0, t_end, sim)
+
+
+def integrate(p: Prepared, progress: Callable[[float], None] | None = None
+              ) -> IntegrationResult:
+    """Run the prepared system with the configured solver."""
+    sim = p.sim
+    if sim.solver == "lowrank":
+        from geardyn.solve.lowrank import newmark_lowrank
+
+        return newmark_lowrank(p.system, p.q0, p.v0, p.t_end_s, sim.dt_s,
+                               save_every=sim.save_every, alpha=sim.hht_alpha, progress=progress)
+    from geardyn.solve.integrate import newmark
+
+    return newmark(p.system, p.q0, p.v0, p.t_end_s, sim.dt_s, save_every=sim.save_every,
+                   alpha=sim.hht_alpha, progress=progress)
+
+
+def to_dataset(model: CoreModel, res: IntegrationResult, reference: str,
+               attrs: dict | None = None) -> xr.Dataset:
+    """Result layout of docs/results.md: angle/speed/speed_rpm per shaft (every moving link and
+    rotor, about its own axis), mesh stiffness, deflection and force, q and v."""
+    mesh_names = [m.name for m in model.meshes]
+    ds = xr.Dataset(
+        {
+            "q": (("time", "dof"), res.q, {"units": "rad"}),
+            "v": (("time", "dof"), res.v, {"units": "rad/s"}),
+            "mesh_stiffness": (("time", "mesh"), res.k, {"units": "N/m"}),
+            "mesh_deflection": (("time", "mesh"), res.delta,
+                                {"units": "m", "long_name": "dynamic transmission error along "
+                                 "the line of action (incl. excitation error)"}),
+            "mesh_force": (("time", "mesh"), res.k * res.delta, {"units": "N"}),
+        },
+        coords={"time": ("time", res.t, {"units": "s"}), "dof": model.dof_names,
+                "mesh": mesh_names},
+        attrs={"status": res.status, "diagnosis": res.diagnosis, "wall_time_s": res.wall_s,
+               **(attrs or {})},
+    )
+    names = list(model.bodies)
+    rot = model.rotation_matrix()
+    ds = ds.assign(shaft_variables(res.t, names, res.q @ rot.T, res.v @ rot.T))
+    ds = ds.assign_coords(shaft=names)
+    return finish(ds, "mechanism", reference if reference in names else names[0])
+
+
+def simulate(cfg: object, t_end_s: float | None = None,
+             progress: Callable[[float], None] | None = None) -> xr.Dataset:
+    """Simulate the config's ``[dynamics]`` model; result in the layout of docs/results.md."""
+    p = prepare(cfg, t_end_s)
+    res = integrate(p, progress)
+    ref = next(iter(getattr(cfg, "input_speeds_rpm", {}) or {}), "")
+    if p.sim.motor is not None:
+        ref = p.sim.motor.rotor
+    return to_dataset(p.model, res, ref, {"dt_s": p.sim.dt_s, "hht_alpha": p.sim.hht_alpha,
+                                          "solver": p.sim.solver})
