@@ -96,8 +96,9 @@ class PlanetPassForce(_M):
 
     amplitude_n: float | None = Field(None, gt=0, description="F_n (N); default: the static "
                                       "ring-planet mesh force of the run's loads")
-    harmonics: list[float] = Field(default_factory=lambda: [1.0], min_length=1,
-                                   description="relative amplitude of mesh harmonics 1, 2, …")
+    harmonics: list[float] | None = Field(
+        None, min_length=1, description="relative amplitude of mesh harmonics 1, 2, …; default: "
+        "those of the quasi-static ring-mesh force k_rn(X)·δ̄ (the ring mesh law)")
     sensor_angle_deg: float = Field(0.0, description="sensor position on the ring (deg)")
 
 

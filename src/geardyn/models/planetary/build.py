@@ -16,7 +16,13 @@ from geardyn.gears.torsional import (
     wang_crack_curve,
     wang_spall_reduction,
 )
-from geardyn.models.planetary.dynamics import MeshLaw, build_system
+from geardyn.models.planetary.dynamics import (
+    MeshLaw,
+    build_system,
+    spring_forces,
+    static_solve,
+)
+from geardyn.models.planetary.loads import gravity_forces, integrated_angle, loaded_square_mesh
 from geardyn.models.planetary.model import (
     PlanetaryModel,
     RotorSpec,
@@ -32,6 +38,7 @@ from geardyn.operating import (
     held_profile,
     reference_angle_table,
 )
+from geardyn.sensors.planet_pass import planet_pass_signal
 from geardyn.solve.integrate import (
     FLUID_COUPLING,
     SPEED_CONTROL,
@@ -145,8 +152,15 @@ def random_impulses(
     return np.where(hit, rng.uniform(0.0, 1.0, n) * max_m, 0.0)
 
 
-def mesh_laws(cfg: object, model: PlanetaryModel) -> dict[tuple[str, str], MeshLaw]:
-    """Time-varying mesh laws of every stage from its mesh settings and faults."""
+def mesh_laws(
+    cfg: object,
+    model: PlanetaryModel,
+    mesh_force_n: dict[tuple[str, str], float] | None = None,
+) -> dict[tuple[str, str], MeshLaw]:
+    """Time-varying mesh laws of every stage from its mesh settings and faults.
+
+    ``mesh_force_n``: static force per mesh type, (stage, "sun"|"ring") → N, used by square
+    meshes with a ``load_law`` that gives no ``force_n`` (see :func:`static_mesh_forces`)."""
     pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
     laws: dict[tuple[str, str], MeshLaw] = {}
     for sd in pd.stages:
@@ -159,12 +173,151 @@ def mesh_laws(cfg: object, model: PlanetaryModel) -> dict[tuple[str, str], MeshL
                 k = m.stiffness_n_per_m * (1 + m.amplitude * np.sin(2 * math.pi * x1))  # type: ignore[operator]
                 laws[(sd.stage, which)] = MeshLaw(k)
             elif m.model == "square":
-                k = square_wave(x1, m.k_max_n_per_m, m.k_min_n_per_m, m.contact_ratio)  # type: ignore[arg-type]
+                kx, kn, c = m.k_max_n_per_m, m.k_min_n_per_m, m.contact_ratio
+                if m.load_law is not None:
+                    kx, kn, c = _loaded(m, (mesh_force_n or {}).get((sd.stage, which)),
+                                        f"stages '{sd.stage}' {which}_mesh")
+                k = square_wave(x1, kx, kn, c)  # type: ignore[arg-type]
                 laws[(sd.stage, which)] = MeshLaw(k)
             else:
                 laws[(sd.stage, which)] = _seed004_law(sd, which, info.z_sun, info.z_ring,
                                                        info.z_planet, len(info.psi))
     return laws
+
+
+def _loaded(m: object, force: float | None, where: str) -> tuple[float, float, float]:
+    law = m.load_law  # type: ignore[attr-defined]
+    f = law.force_n if law.force_n is not None else force
+    if f is None:
+        raise ConfigError(f"planetary_dynamics.{where}.load_law: no mesh force; give force_n "
+                          "(N) or loads that fix a static solution")
+    return loaded_square_mesh(m.k_max_n_per_m, m.k_min_n_per_m, m.contact_ratio,  # type: ignore[attr-defined]
+                              abs(f), law.tip_relief_m, law.relief_roll_ratio,
+                              law.reference_force_n, law.stiffness_exponent)
+
+
+def static_mesh_forces(cfg: object, model: PlanetaryModel) -> dict[tuple[str, str], float]:
+    """Mean static force (N) of each stage's sun and ring meshes under the run's torques
+    (constant values; profiles by their time mean), with the speed-controlled bodies and motor
+    rotors held (seed 003 notes §4.5: the motor supplies only losses)."""
+    pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
+    sim = pd.simulation
+    if sim is None:
+        return {}
+    loads: dict[str, float] = {}
+    for t in sim.torques:
+        b = model.body(t.body)
+        tq = t.torque_nm
+        if t.profile:
+            pts = np.asarray(t.profile, float)
+            tq = float(np.trapezoid(pts[:, 1], pts[:, 0]) / (pts[-1, 0] - pts[0, 0])) \
+                if len(pts) > 1 else float(pts[0, 1])
+        name = _udof(model, t.body)
+        loads[name] = loads.get(name, 0.0) + tq / b.radius
+    fixed = [_udof(model, sc.body) for sc in sim.speed_controls]
+    if sim.motor:
+        fixed.append(_udof(model, sim.motor.rotor))
+    try:
+        q = static_solve(model, loads, fixed)
+    except InputError as e:
+        raise ConfigError(f"planetary_dynamics: the static mesh forces for the load law or "
+                          f"the planet-pass force are undefined ({e}); give the force "
+                          "explicitly (load_law.force_n, planet_pass.amplitude_n)") from None
+    forces = spring_forces(model, q)
+    out: dict[tuple[str, str], float] = {}
+    for st in model.stages:
+        for which in ("sun", "ring"):
+            f = [abs(forces[s.name]) for s in model.springs
+                 if s.stage == st and s.kind == f"mesh_{which}"]
+            out[(st, which)] = float(np.mean(f)) if f else 0.0
+    return out
+
+
+def nominal_carrier_angle(model: PlanetaryModel, sim: object, stage: str, t: np.ndarray
+                          ) -> np.ndarray:
+    """Carrier angle θ_c(t) (rad) of the rigid-body motion the run imposes: the first speed
+    control's profile, else the initial speeds held constant (used for the time-tabulated
+    gravity and planet-pass forces; the simulated angle differs by the vibration)."""
+    carrier = model.rotation_vector(model.stages[stage].bodies["carrier"])
+    scs = sim.speed_controls  # type: ignore[attr-defined]
+    if scs:
+        ts, rpm = _held(scs[0].profile_rpm, float(t[-1]), "speed_controls[0].profile_rpm", "rpm")
+        rate = float(carrier @ rigid_velocity(model, {scs[0].body: 1.0}))  # rad/s per rpm
+        return rate * integrated_angle(t, ts, rpm)
+    w_c = float(carrier @ rigid_velocity(model, sim.initial_speed_rpm))  # type: ignore[attr-defined]
+    return w_c * np.asarray(t, float)
+
+
+def mesh_harmonics(law: MeshLaw, n: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    """Relative amplitudes 2|K_h|/K_0 and phases arg K_h (rad) of mesh harmonics h = 1…n of a
+    law's stiffness table, k(X) = k̄(1 + Σ a_h cos(2π h X + φ_h)); the quasi-static mesh force
+    k(X)·δ̄ has the same relative harmonics."""
+    k = np.asarray(law.k, float)
+    if k.size < 2:
+        return np.zeros(n), np.zeros(n)
+    spec = np.fft.rfft(k) / k.size
+    per = int(round(law.period))
+    idx = [h * per for h in range(1, n + 1)]
+    amp = np.array([2 * abs(spec[i]) / spec[0].real if i < spec.size else 0.0 for i in idx])
+    ph = np.array([np.angle(spec[i]) if i < spec.size else 0.0 for i in idx])
+    return amp, ph
+
+
+def _extra_forces(cfg: object, model: PlanetaryModel, t_grid: np.ndarray,
+                  mesh_force_n: dict[tuple[str, str], float],
+                  laws: dict[tuple[str, str], MeshLaw]) -> np.ndarray:
+    """Opt-in gravity and planet-pass ring forces on the force grid (solved coordinates).
+
+    Planet-pass (seed 003 eq 4.13): planet n sits at absolute angle θ_c + ψ_n here, so it is
+    passed to :func:`~geardyn.sensors.planet_pass.planet_pass_signal` (planets at θ − ψ') as
+    ψ' = −ψ_n; its mesh term cos(h z_r(θ_c + ψ_n) + φ_h) is then the model's ring-mesh phase
+    2πh X_rn. Without ``harmonics``, F_n is the quasi-static ring-mesh force k_rn(X)·δ̄: the
+    amplitudes and phases of the ring mesh law's harmonics (:func:`mesh_harmonics`) times the
+    static force; a constant mesh gives the thesis's single cosine of amplitude F_n."""
+    pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
+    out = np.zeros((len(t_grid), len(model.names)))
+    for sd in pd.stages:
+        if not (sd.gravity_m_per_s2 > 0 or sd.planet_pass is not None):
+            continue
+        theta = nominal_carrier_angle(model, pd.simulation, sd.stage, t_grid)
+        if sd.gravity_m_per_s2 > 0:
+            out += gravity_forces(model, sd.stage, theta, sd.gravity_m_per_s2,
+                                  math.radians(sd.gravity_angle_deg))
+        if sd.planet_pass is not None:
+            pp = sd.planet_pass
+            info = model.stages[sd.stage]
+            amp = pp.amplitude_n if pp.amplitude_n is not None else mesh_force_n[
+                (sd.stage, "ring")]
+            if pp.harmonics is not None:
+                rel, ph = np.asarray(pp.harmonics, float), np.zeros(len(pp.harmonics))
+            else:
+                rel, ph = mesh_harmonics(laws[(sd.stage, "ring")]) if (
+                    sd.stage, "ring") in laws else (np.zeros(3), np.zeros(3))
+                if not rel.any():
+                    rel, ph = np.ones(1), np.zeros(1)
+                ph = ph - 2 * np.pi * np.arange(1, len(ph) + 1) * sd.sun_ring_phase
+            ring = info.bodies["ring"]
+            # ring angle relative to the carrier: the planets pass a ring-fixed sensor
+            th_rel = theta - _nominal_ring_angle(model, pd.simulation, sd.stage, t_grid)
+            f = planet_pass_signal(th_rel, len(info.psi), info.z_ring,
+                                   amplitudes=amp * rel, phases=ph,
+                                   planet_angles=list(np.mod(-info.psi, 2 * np.pi)),
+                                   sensor_angle=math.radians(pp.sensor_angle_deg))
+            out[:, model.dof(_udof(model, ring))] += f  # seed 003 eq 4.14: on u_r
+    return out
+
+
+def _nominal_ring_angle(model: PlanetaryModel, sim: object, stage: str, t: np.ndarray
+                        ) -> np.ndarray:
+    ring = model.rotation_vector(model.stages[stage].bodies["ring"])
+    carrier = model.rotation_vector(model.stages[stage].bodies["carrier"])
+    scs = sim.speed_controls  # type: ignore[attr-defined]
+    if scs:
+        v1 = rigid_velocity(model, {scs[0].body: 1.0})
+        wc = float(carrier @ v1)
+        return 0.0 if wc == 0 else float(ring @ v1) / wc * nominal_carrier_angle(
+            model, sim, stage, t)
+    return float(ring @ rigid_velocity(model, sim.initial_speed_rpm)) * np.asarray(t, float)  # type: ignore[attr-defined]
 
 
 def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: int) -> MeshLaw:
@@ -261,7 +414,14 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
     if not t_end > 0:
         raise ConfigError(f"t_end_s: the run end must be > 0 s (got {t_end_s!r})")
     model = model_from_config(cfg)
-    laws = mesh_laws(cfg, model)
+    extras = any(sd.gravity_m_per_s2 > 0 or sd.planet_pass is not None for sd in pd.stages)
+    need_f = any(
+        (sd.planet_pass is not None and sd.planet_pass.amplitude_n is None)
+        or any(m.load_law is not None and m.load_law.force_n is None
+               for m in (sd.sun_mesh, sd.ring_mesh))
+        for sd in pd.stages)
+    mesh_force = static_mesh_forces(cfg, model) if need_f else {}
+    laws = mesh_laws(cfg, model, mesh_force)
     names = model.names
     n = len(names)
     drives: list[dict] = []
@@ -275,12 +435,17 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
         t_grid = np.unique(np.concatenate([t_grid] + [ts for ts, _ in profiles.values()]))
         # uniform grid for the kernel's table lookup (held at its ends)
         t_grid = np.linspace(0.0, t_grid[-1], max(len(t_grid), 2001))
+    if extras:  # planet-pass / gravity: tabulate at the time step (at most 400001 rows)
+        t_grid = np.linspace(0.0, t_grid[-1], max(len(t_grid), min(
+            int(math.ceil(t_grid[-1] / sim.dt_s)) + 1, 400001)))
     force = np.zeros((len(t_grid), n))
     for i, t in enumerate(sim.torques):
         b = model.body(t.body)
         j = model.dof(_udof(model, t.body))
         tq = np.interp(t_grid, *profiles[i]) if i in profiles else t.torque_nm
         force[:, j] += tq / b.radius
+    if extras:
+        force += _extra_forces(cfg, model, t_grid, mesh_force, laws)
     for i, sc in enumerate(sim.speed_controls):
         b = model.body(sc.body)
         ts, rpm = _held(sc.profile_rpm, t_end, f"{where}.speed_controls[{i}].profile_rpm", "rpm")
