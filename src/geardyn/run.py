@@ -14,29 +14,48 @@ from collections.abc import Callable
 import numpy as np
 import xarray as xr
 
-from geardyn.errors import ConfigError, InputError
+from geardyn.errors import ConfigError, GeardynError, InputError
 from geardyn.sensors.channels import RingSet, SensorContext, apply_sensors
+from geardyn.solve.control import RunControl
+from geardyn.solve.sanity import (
+    MIN_STEPS_PER_MESH_REFUSE,
+    check_energy,
+    check_time_step,
+    mesh_period,
+    shortest_period,
+)
 
 
 def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: ANN001
                    revolutions: float | None = None,
-                   progress: Callable[[float], None] | None = None) -> xr.Dataset:
+                   progress: Callable[[float], None] | None = None,
+                   control: RunControl | None = None) -> xr.Dataset:
     """Simulate ``cfg`` and measure it with its sensors.
 
     ``seed`` drives every random draw of the run (sensor noise, graduation errors, the seed 004
     random impulse errors when enabled): the same config and seed give the same result.
     ``t_end_s`` overrides the planetary run length, ``revolutions`` the FE speed law's.
-    A diverged run returns its partial result with ``status = 'diverged'`` (no exception).
+    ``control`` (:class:`~geardyn.solve.control.RunControl`): progress, cost estimate, stop
+    requests, checkpoints and resume of the chunked integration.
+
+    The time step is checked before the run (:func:`geardyn.solve.sanity.check_time_step`:
+    refused with an InputError naming it, or a :class:`~geardyn.solve.sanity.TimeStepWarning`).
+    A diverged run returns its partial result with ``status = 'diverged'``, a stopped one with
+    ``interrupted``, one failing the output checks (mesh deflection vs module, energy balance)
+    with ``suspect`` (no exception; ``diagnosis`` says why).
     """
     if not isinstance(seed, int | np.integer) or seed < 0:
         raise InputError(f"seed: must be an integer >= 0, got {seed!r}")
     if t_end_s is not None and not (math.isfinite(t_end_s) and t_end_s > 0):
         raise InputError(f"t_end_s: must be a finite time > 0 s, got {t_end_s!r}")
     pdyn = getattr(cfg, "planetary_dynamics", None)
+    ctl = control or RunControl(progress=progress)
+    if progress is not None and ctl.progress is None:
+        ctl.progress = progress
     if pdyn is not None and pdyn.simulation is not None:
-        ds = _planetary(cfg, int(seed), t_end_s, progress)
+        ds = _planetary(cfg, int(seed), t_end_s, ctl)
     elif getattr(cfg, "transmission", None) is not None:
-        ds = _transmission(cfg, revolutions, t_end_s)
+        ds = _transmission(cfg, revolutions, t_end_s, ctl)
     else:
         raise ConfigError("nothing to simulate: the config has neither a [planetary_dynamics] "
                           "section with [planetary_dynamics.simulation] nor [transmission]")
@@ -60,7 +79,8 @@ def _seeded(cfg, seed: int):  # noqa: ANN001, ANN202
     return cfg.model_copy(update={"planetary_dynamics": pd.model_copy(update={"stages": stages})})
 
 
-def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> xr.Dataset:  # noqa: ANN001
+def _planetary(cfg, seed: int, t_end_s: float | None,  # noqa: ANN001
+               control: RunControl) -> xr.Dataset:
     from geardyn.models.planetary.build import prepare
     from geardyn.models.planetary.dynamics import to_dataset
     from geardyn.solve.integrate import newmark
@@ -71,13 +91,53 @@ def _planetary(cfg, seed: int, t_end_s: float | None, progress) -> xr.Dataset:  
     p = prepare(cfg, t_end_s=t1)
     model = p.model
     names = body_links(cfg, model)
+    check_time_step(sim.dt_s, "planetary_dynamics.simulation.dt_s",
+                    shortest_period(p.system), mesh_period(p.system, _planetary_speeds(cfg, p)))
     res = newmark(p.system, p.q0, p.v0, t1, sim.dt_s, save_every=sim.save_every,
-                  alpha=sim.hht_alpha, progress=progress)
+                  alpha=sim.hht_alpha, control=control)
     ds = to_dataset(model, res, p.mesh_index, {"dt_s": sim.dt_s, "hht_alpha": sim.hht_alpha},
                     shaft_names=names)
     ds.attrs["reference_shaft"] = _reference(cfg, [str(s) for s in ds["shaft"].values])
+    ds.attrs.update({f"energy_{k}": v for k, v in res.energy.items()})
     _check_mesh_deflection(ds, cfg)
+    if len(p.system.mass_schedule.dof) == 0:  # a mass schedule adds ½vᵀṀv: not booked
+        _suspect(ds, check_energy(res.energy))
+    if ds.attrs["status"] == "ok" and p.system.springs.a.shape[0]:
+        # the mesh speeds reached (motor run-ups may exceed the estimate made before the run)
+        tm = mesh_period(p.system, list(res.v))
+        if tm is not None and tm / sim.dt_s < MIN_STEPS_PER_MESH_REFUSE:
+            _suspect(ds, f"the mesh period fell to {tm:.4g} s during the run: "
+                         f"{tm / sim.dt_s:.3g} steps per mesh cycle with "
+                         f"planetary_dynamics.simulation.dt_s = {sim.dt_s:g} s (aliased)")
     return ds
+
+
+def _suspect(ds: xr.Dataset, problem: str) -> None:
+    """Status ``suspect`` with ``problem`` appended to the diagnosis (only an ``ok`` run)."""
+    if not problem or ds.attrs.get("status") not in ("ok", "suspect"):
+        return
+    ds.attrs["status"] = "suspect"
+    ds.attrs["diagnosis"] = "; ".join(x for x in (str(ds.attrs.get("diagnosis", "")),
+                                                  problem + "; the computed part is kept") if x)
+
+
+def _planetary_speeds(cfg, p) -> list[np.ndarray]:  # noqa: ANN001
+    """Velocity states bounding the run's speeds before it starts: the initial state, each
+    speed control at its largest profile speed, a motor's coupling at synchronous speed."""
+    from geardyn.models.planetary.build import rigid_velocity
+
+    sim = cfg.planetary_dynamics.simulation
+    speeds = [np.asarray(p.v0, float)]
+    targets = [{sc.body: max(abs(r) for _, r in sc.profile_rpm)} for sc in sim.speed_controls]
+    mo = sim.motor
+    if mo is not None and mo.coupling_to:
+        targets.append({mo.coupling_to: 120.0 * mo.frequency_hz / mo.poles / mo.coupling_ratio})
+    for tg in targets:
+        try:
+            speeds.append(rigid_velocity(p.model, tg))
+        except (GeardynError, KeyError, ValueError):  # a body the model does not know
+            continue
+    return speeds
 
 
 #: A mesh deflection beyond this fraction of the module is not a gear mesh any more.
@@ -130,8 +190,8 @@ def body_links(cfg, model) -> dict[str, str]:  # noqa: ANN001
     return out
 
 
-def _transmission(cfg, revolutions: float | None, t_end_s: float | None  # noqa: ANN001
-                  ) -> xr.Dataset:
+def _transmission(cfg, revolutions: float | None, t_end_s: float | None,  # noqa: ANN001
+                  control: RunControl) -> xr.Dataset:
     from geardyn.models.transmission import simulate
     from geardyn.models.transmission.simulate import SimulationDivergedError
 
@@ -139,7 +199,7 @@ def _transmission(cfg, revolutions: float | None, t_end_s: float | None  # noqa:
         warnings.warn("t_end_s does not apply to the FE transmission (its speed law sets the "
                       "run length); use revolutions", stacklevel=3)
     try:
-        ds = simulate(cfg, revolutions=revolutions)
+        ds = simulate(cfg, revolutions=revolutions, control=control, check_step=True)
     except SimulationDivergedError as exc:
         ds = exc.result
     return ds

@@ -19,6 +19,10 @@ and :func:`reference_rhs` is a plain-numpy right-hand side used to check the ker
 
 Divergence: a step producing non-finite values or |q| > ``q_limit`` stops the run; the result
 holds every step computed before it and a ``diagnosis`` naming the time and the DOF.
+
+Long runs go in chunks that return to Python (:mod:`geardyn.solve.control`): progress, stop
+requests (status ``interrupted``), checkpoints and resume; the chunks continue exactly (the whole
+loop state is carried), so the result does not depend on the chunking.
 """
 
 from __future__ import annotations
@@ -30,6 +34,8 @@ from dataclasses import dataclass, field
 
 import numba as nb
 import numpy as np
+
+from geardyn.solve.control import RunControl
 
 # ---------------------------------------------------------------------------------------------
 # data containers (structure of arrays)
@@ -348,38 +354,177 @@ def _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, ep
 
 
 @nb.njit(cache=True)
-def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-                    dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-                    md, mc, mh, mtx, mty, mtl, gg, gk, gr,
-                    q0, v0, t0, dt, nsteps, save_every, alpha, qlim,
-                    Q, V, KS, DS, TS):
-    """Fixed-step HHT-α/Newmark; returns (steps done, status, offending DOF)."""
-    n = q0.shape[0]
+def _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr,
+                   fbuf):
+    """Power vᵀF of the applied forces at (q, v, t): force table, the full drive torques (motor
+    curves, fluid couplings, loads, speed control) and the gyroscopic/centripetal forces
+    −Ω G q̇ + Ω² K_Ω q (seed 003 eq 3.1); and Σ|F_j v_j|, the gross power exchanged (the
+    scale of the energy balance). Energy bookkeeping only."""
+    n = q.shape[0]
+    _force_table(t, ft, fv, fbuf)
+    for i in range(dk.shape[0]):
+        a = da[i]
+        wa = v[a] * dha[i]
+        k = dk[i]
+        if k == 0:
+            fbuf[a] += _interp(wa, dtx[i], dty[i], dtl[i]) * dha[i]
+        elif k == 1:
+            b = db[i]
+            tq = dp0[i] * wa * (wa - v[b] * dhb[i] * dp1[i])
+            fbuf[a] -= tq * dha[i]
+            fbuf[b] += tq * dp1[i] * dhb[i]
+        elif k == 2:
+            if wa > 0.0:
+                fbuf[a] -= dp0[i] * wa * wa * _interp(q[a] * dha[i], dtx[i], dty[i],
+                                                      dtl[i]) * dha[i]
+        elif k == 3:
+            m = dtl[i]
+            h = 1e-6 * (dtx[i, m - 1] - dtx[i, 0] + 1.0)
+            w_ref = (_interp(t + h, dtx[i], dty[i], m) - _interp(t - h, dtx[i], dty[i], m)) / (
+                2 * h)
+            th_ref = _interp(t, dtx[i], dty[i], m)
+            fbuf[a] += (dp0[i] * (th_ref - q[a] * dha[i]) + dp1[i] * (w_ref - wa)) * dha[i]
+    p = 0.0
+    pabs = 0.0
+    for j in range(n):
+        p += fbuf[j] * v[j]
+        pabs += abs(fbuf[j] * v[j])
+    for g in range(gg.shape[0]):
+        om = 0.0
+        for j in range(n):
+            om += gr[g, j] * v[j]
+        for i in range(n):
+            s = 0.0
+            for j in range(n):
+                s += -om * gg[g, i, j] * v[j] + om * om * gk[g, i, j] * q[j]
+            p += v[i] * s
+            pabs += abs(v[i] * s)
+    return p, pabs
+
+
+@nb.njit(cache=True)
+def _dissipated_power(v, C0, sa, sc, closs, dout):
+    """vᵀC₀v plus Σ c (aᵀv)² of the mesh dampers in contact (W)."""
+    n = v.shape[0]
+    p = 0.0
+    for i in range(n):
+        s = 0.0
+        for j in range(n):
+            s += C0[i, j] * v[j]
+        p += v[i] * s
+    for e in range(sa.shape[0]):
+        if sc[e] == 0.0 or (closs[e] == 1 and dout[e] < 0.0):
+            continue
+        w = 0.0
+        for j in range(n):
+            w += sa[e, j] * v[j]
+        p += sc[e] * w * w
+    return p
+
+
+@nb.njit(cache=True)
+def _energy_step(t, q, v, dt, C0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+                 dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr,
+                 en, ek, ee, ed, fbuf):
+    """Energy accumulators over one step ending at state (q, v, t).
+
+    ``en`` = [applied work, dissipated work, parametric work, applied power, dissipated power,
+    gross applied work ∫Σ|F_j v_j|, gross applied power] (powers at the previous state);
+    ``ek``, ``ee``, ``ed`` = k, e, δ of each variable spring at the previous state, updated to
+    the new one. Trapezoidal rule for the powers; the parametric work of a spring (stiffness
+    and error varying with the mesh position) over the step is ½Δk·(δ₀² + δ₁²)/2 + k̄ δ̄ Δe, so
+    that with the spring work k̄ δ̄ aᵀΔq it adds up
+    exactly to Δ(½kδ²)."""
+    pa, pg = _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                            gg, gk, gr, fbuf)
     ns = sa.shape[0]
-    beta = (1.0 + alpha) ** 2 / 4.0
-    gamma = 0.5 + alpha
-    q = q0.copy()
-    v = v0.copy()
+    n = q.shape[0]
+    wp = 0.0
+    for e in range(ns):
+        x = sx0[e]
+        d = 0.0
+        for j in range(n):
+            x += sb[e, j] * q[j]
+            d += sa[e, j] * q[j]
+        k = _periodic(x, ktab[e], klen[e], kper[e])
+        er = _periodic(x, etab[e], elen[e], eper[e])
+        d += er
+        if closs[e] == 1 and d < 0.0:
+            k = 0.0
+        wp += 0.25 * (k - ek[e]) * (d * d + ed[e] * ed[e]) + 0.25 * (k + ek[e]) * (
+            d + ed[e]) * (er - ee[e])
+        ek[e] = k
+        ee[e] = er
+        ed[e] = d
+    pd = _dissipated_power(v, C0, sa, sc, closs, ed)
+    en[0] += 0.5 * dt * (en[3] + pa)
+    en[1] += 0.5 * dt * (en[4] + pd)
+    en[2] += wp
+    en[3] = pa
+    en[4] = pd
+    en[5] += 0.5 * dt * (en[6] + pg)
+    en[6] = pg
+
+
+@nb.njit(cache=True)
+def _newmark_start(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+                   dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                   md, mc, mh, mtx, mty, mtl, gg, gk, gr, q, v, t0, acc, r0, kout, dout,
+                   en, ek, ee, ed):
+    """Initial acceleration M a = F − C v − K q at (q, v, t0) (into ``acc``; ``r0`` the
+    residual force), the springs' k and δ, and the energy accumulators' start values."""
+    n = q.shape[0]
+    ns = sa.shape[0]
     M = np.empty((n, n))
     C = np.empty((n, n))
     K = np.empty((n, n))
     f = np.empty(n)
-    kout = np.empty(ns)
     eout = np.empty(ns)
-    dout = np.empty(ns)
     _assemble(q, v, t0, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
               dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
               gg, gk, gr,
               M, C, K, f, kout, eout, dout)
-    r0 = f - C @ v - K @ q
-    acc = np.linalg.solve(M, r0)
-    Q[0] = q
-    V[0] = v
-    KS[0] = kout
-    DS[0] = dout
-    TS[0] = t0
-    isave = 1
-    for step in range(1, nsteps + 1):
+    r0[:] = f - C @ v - K @ q
+    acc[:] = np.linalg.solve(M, r0)
+    en[:] = 0.0
+    ek[:] = kout
+    ee[:] = eout
+    ed[:] = dout
+    en[3], en[6] = _applied_power(t0, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft,
+                                  fv, gg, gk, gr, f)
+    en[4] = _dissipated_power(v, C0, sa, sc, closs, dout)
+
+
+@nb.njit(cache=True)
+def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+                    dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                    md, mc, mh, mtx, mty, mtl, gg, gk, gr,
+                    qs, vs, accs, r0s, t0, dt, step0, nsteps, save_every, alpha, qlim,
+                    Q, V, KS, DS, TS, en, ek, ee, ed):
+    """Fixed-step HHT-α/Newmark from global step ``step0`` over ``nsteps`` steps.
+
+    The state (q, v, a, r0: ``qs``, ``vs``, ``accs``, ``r0s``) and the energy accumulators are
+    updated in place, so that chunks continue exactly; global step s is saved in row
+    s // save_every when s is a multiple of ``save_every``. Returns (steps done, status,
+    offending DOF); t = t0 + s·dt."""
+    n = qs.shape[0]
+    ns = sa.shape[0]
+    beta = (1.0 + alpha) ** 2 / 4.0
+    gamma = 0.5 + alpha
+    q = qs.copy()
+    v = vs.copy()
+    acc = accs.copy()
+    r0 = r0s.copy()
+    M = np.empty((n, n))
+    C = np.empty((n, n))
+    K = np.empty((n, n))
+    f = np.empty(n)
+    fbuf = np.empty(n)
+    kout = np.empty(ns)
+    eout = np.empty(ns)
+    dout = np.empty(ns)
+    for local in range(1, nsteps + 1):
+        step = step0 + local
         t = t0 + step * dt
         qp = q + dt * v + dt * dt * (0.5 - beta) * acc
         vp = v + dt * (1.0 - gamma) * acc
@@ -400,14 +545,21 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
                 bad = j
                 break
         if bad >= 0:
-            return step - 1, 1, bad
+            return local - 1, 1, bad
+        _energy_step(t, q, v, dt, C0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc,
+                     closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr,
+                     en, ek, ee, ed, fbuf)
         if step % save_every == 0:
-            Q[isave] = q
-            V[isave] = v
-            KS[isave] = kout
-            DS[isave] = dout
-            TS[isave] = t
-            isave += 1
+            i = step // save_every
+            Q[i] = q
+            V[i] = v
+            KS[i] = kout
+            DS[i] = dout
+            TS[i] = t
+    qs[:] = q
+    vs[:] = v
+    accs[:] = acc
+    r0s[:] = r0
     return nsteps, 0, -1
 
 
@@ -455,7 +607,9 @@ def _args(sys: LinearSystem) -> tuple:
 
 @dataclass
 class IntegrationResult:
-    """Saved states; ``status`` is ``"ok"`` or ``"diverged"`` with a ``diagnosis``."""
+    """Saved states; ``status`` is ``"ok"``, ``"diverged"`` or ``"interrupted"`` (a stop
+    request between chunks) with a ``diagnosis``; ``energy`` the energy balance terms (J) of
+    :func:`newmark` (empty when not available)."""
 
     t: np.ndarray
     q: np.ndarray
@@ -465,6 +619,21 @@ class IntegrationResult:
     status: str
     diagnosis: str
     wall_s: float
+    energy: dict[str, float] = field(default_factory=dict)
+
+
+def stored_energy(sys: LinearSystem, q: np.ndarray, v: np.ndarray, k: np.ndarray,
+                  delta: np.ndarray) -> tuple[float, float]:
+    """Kinetic ½vᵀMv and potential ½qᵀK₀q + Σ ½kδ² energy (J) of state (q, v) with the
+    variable springs at stiffness ``k`` and deflection ``delta``."""
+    ke = 0.5 * float(v @ sys.M @ v)
+    pe = 0.5 * float(q @ sys.K @ q) + 0.5 * float(np.sum(k * delta * delta))
+    return ke, pe
+
+
+#: Integrator state carried between chunks and written to checkpoints.
+_STATE = ("q", "v", "acc", "r0", "en", "ek", "ee", "ed")
+_SAVED = ("Q", "V", "KS", "DS", "TS")
 
 
 def newmark(
@@ -478,64 +647,115 @@ def newmark(
     t0: float = 0.0,
     q_limit: float = 1e10,
     progress: Callable[[float], None] | None = None,
-    chunk_steps: int = 20000,
+    chunk_steps: int | None = None,
+    control: RunControl | None = None,
 ) -> IntegrationResult:
     """Fixed-step Newmark (α = 0, average acceleration) or HHT-α (0 < α ≤ ⅓) integration.
 
-    The run is cut into chunks so that ``progress(fraction)`` can be reported; a divergence
-    (non-finite or |q| > ``q_limit``) stops it and keeps what was computed.
+    The run is cut into chunks (at most ``chunk_steps`` steps each, else sized by ``control``)
+    that continue exactly, so that ``progress(fraction)`` can be reported, a stop request of
+    ``control`` ends the run with status ``interrupted`` and its computed part, and a
+    checkpoint of ``control`` gets the full state (``control.resume`` continues from one,
+    bit-identically). A divergence (non-finite or |q| > ``q_limit``) stops the run and keeps
+    what was computed. ``energy``: work of the applied forces, dissipated and parametric work,
+    stored energy at start and end (see :func:`_energy_step`).
     """
     if not 0.0 <= alpha <= 1.0 / 3.0:
         raise ValueError(f"HHT alpha {alpha} must be in [0, 1/3]")
-    if dt <= 0 or t_end <= t0:
-        raise ValueError("dt must be > 0 and t_end > t0")
+    if not (dt > 0 and t_end > t0):
+        raise ValueError(f"dt must be > 0 and t_end > t0 (dt = {dt!r} s, t0 = {t0!r} s, "
+                         f"t_end = {t_end!r} s)")
+    ctl = control or RunControl(progress=progress)
+    if progress is not None and ctl.progress is None:
+        ctl.progress = progress
     args = _args(sys)
     nsteps = int(round((t_end - t0) / dt))
     save_every = max(1, int(save_every))
-    chunk = max(save_every, (chunk_steps // save_every) * save_every)
-    ts, qs, vs, ks, ds = [], [], [], [], []
-    q, v, t = np.asarray(q0, float).copy(), np.asarray(v0, float).copy(), t0
-    done = 0
+    n, ns = sys.n, sys.springs.a.shape[0]
+    nsave = nsteps // save_every + 1
+    out = {"Q": np.zeros((nsave, n)), "V": np.zeros((nsave, n)), "KS": np.zeros((nsave, ns)),
+           "DS": np.zeros((nsave, ns)), "TS": np.zeros(nsave)}
+    st = {"q": np.asarray(q0, float).copy(), "v": np.asarray(v0, float).copy(),
+          "acc": np.zeros(n), "r0": np.zeros(n), "en": np.zeros(7), "ek": np.zeros(ns),
+          "ee": np.zeros(ns), "ed": np.zeros(ns)}
+    run_id = {"scheme": "newmark", "nsteps": nsteps, "dt": float(dt), "t0": float(t0),
+              "save_every": save_every, "alpha": float(alpha), "n": n, "ns": ns}
+    if ctl.resume is not None:
+        done, stored0 = _resume_newmark(ctl.resume, run_id, st, out)
+    else:
+        _newmark_start(*args, st["q"], st["v"], t0, st["acc"], st["r0"], out["KS"][0],
+                       out["DS"][0], st["en"], st["ek"], st["ee"], st["ed"])
+        out["Q"][0], out["V"][0], out["TS"][0] = st["q"], st["v"], t0
+        done = 0
+        stored0 = stored_energy(sys, st["q"], st["v"], st["ek"], st["ed"])
     status, diag = "ok", ""
     w0 = time.perf_counter()
-    first = True
+
+    def state() -> dict:
+        rows = done // save_every + 1
+        return {**run_id, "step": done, "stored_start": np.array(stored0),
+                **{k: st[k] for k in _STATE}, **{k: out[k][:rows] for k in _SAVED}}
+
     while done < nsteps:
-        m = min(chunk, nsteps - done)
-        nsave = m // save_every + 1
-        ns = sys.springs.a.shape[0]
-        Q = np.zeros((nsave, sys.n))
-        V = np.zeros((nsave, sys.n))
-        KS = np.zeros((nsave, ns))
-        DS = np.zeros((nsave, ns))
-        TS = np.zeros(nsave)
-        steps, code, bad = _newmark_kernel(*args, q, v, t, dt, m, save_every, alpha, q_limit,
-                                           Q, V, KS, DS, TS)
-        kept = steps // save_every + 1
-        sl = slice(0 if first else 1, kept)
-        ts.append(TS[sl])
-        qs.append(Q[sl])
-        vs.append(V[sl])
-        ks.append(KS[sl])
-        ds.append(DS[sl])
-        first = False
+        m = ctl.next_chunk(done, nsteps, chunk_steps)
+        w = time.perf_counter()
+        steps, code, bad = _newmark_kernel(
+            *args, st["q"], st["v"], st["acc"], st["r0"], t0, dt, done, m, save_every, alpha,
+            q_limit, out["Q"], out["V"], out["KS"], out["DS"], out["TS"], st["en"], st["ek"],
+            st["ee"], st["ed"])
+        w = time.perf_counter() - w
         if code != 0:
-            tb = t + (steps + 1) * dt
+            done += steps
             name = sys.dof_names[bad] if sys.dof_names else f"#{bad}"
             status = "diverged"
             diag = (
-                f"diverged at t = {tb:.6g} s: DOF '{name}' became non-finite or exceeded "
-                f"{q_limit:g}; results kept up to t = {t + steps * dt:.6g} s. Reduce dt, add "
-                "damping, or check for negative/unsupported stiffness and unbounded loads."
+                f"diverged at t = {t0 + (done + 1) * dt:.6g} s: DOF '{name}' became non-finite "
+                f"or exceeded {q_limit:g}; results kept up to t = {t0 + done * dt:.6g} s. "
+                "Reduce dt, add damping, or check for negative/unsupported stiffness and "
+                "unbounded loads."
             )
             break
-        q, v, t = Q[kept - 1].copy(), V[kept - 1].copy(), TS[kept - 1]
         done += m
-        if progress is not None:
-            progress(done / nsteps)
+        ctl.chunk_done(m, w, done, nsteps, state)
+        if ctl.stop_requested and done < nsteps:
+            status = "interrupted"
+            diag = (f"{ctl.stop_reason or 'interrupted'} at t = {t0 + done * dt:.6g} s (step "
+                    f"{done} of {nsteps}): the computed part is kept")
+            break
+    rows = done // save_every + 1
+    energy: dict[str, float] = {}
+    if status != "diverged":
+        ke1, pe1 = stored_energy(sys, st["q"], st["v"], st["ek"], st["ed"])
+        en = st["en"]
+        energy = {"applied_J": float(en[0]), "dissipated_J": float(en[1]),
+                  "parametric_J": float(en[2]), "gross_applied_J": float(en[5]),
+                  "kinetic_start_J": float(stored0[0]),
+                  "potential_start_J": float(stored0[1]), "kinetic_end_J": ke1,
+                  "potential_end_J": pe1}
     return IntegrationResult(
-        np.concatenate(ts), np.concatenate(qs), np.concatenate(vs), np.concatenate(ks),
-        np.concatenate(ds), status, diag, time.perf_counter() - w0,
+        out["TS"][:rows], out["Q"][:rows], out["V"][:rows], out["KS"][:rows],
+        out["DS"][:rows], status, diag, time.perf_counter() - w0, energy,
     )
+
+
+def _resume_newmark(saved: dict, run_id: dict, st: dict, out: dict) -> tuple[int, tuple]:
+    """Fill the state and the saved rows from checkpoint ``saved`` (same run only)."""
+    from geardyn.errors import InputError
+
+    for k, val in run_id.items():
+        got = saved.get(k)
+        got = got.item() if isinstance(got, np.ndarray) and got.ndim == 0 else got
+        if got != val:
+            raise InputError(f"resume: the checkpoint is of another run ({k} = {got!r}, this "
+                             f"run has {val!r})")
+    done = int(saved["step"])
+    for k in _STATE:
+        st[k][...] = saved[k]
+    rows = done // run_id["save_every"] + 1
+    for k in _SAVED:
+        out[k][:rows] = saved[k]
+    s0 = np.asarray(saved["stored_start"], float)
+    return done, (float(s0[0]), float(s0[1]))
 
 
 def compiled_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray]:

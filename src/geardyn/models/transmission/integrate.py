@@ -4,7 +4,10 @@ Explicit velocity-Verlet (central-difference) scheme compiled with numba: the co
 are strongly nonlinear but cheap, the model is small (≈100 DOF), so an explicit step below
 the stability limit 2/ω_max is the fastest robust choice (no Jacobians of the contact laws).
 Velocity-dependent forces (damping, friction, squeeze film, controller) use a predicted
-end-of-step velocity. The whole loop runs in compiled code; outputs are decimated.
+end-of-step velocity. The loop runs in compiled code, in chunks that return to Python
+(progress, Ctrl-C, checkpoints: :class:`geardyn.solve.control.RunControl`); the whole loop
+state is carried between chunks, so the result does not depend on the chunking. Outputs are
+decimated.
 
 Drive: T_d = T_0 + K_p e + K_i ∫e, e = ω_ref(t) − ω_ref_node, on the drive node; the load
 torque is constant and resists the rotation (seed 002 §3.2: operating point reached by the
@@ -14,11 +17,14 @@ torque laws). Energy bookkeeping integrates input, output and each dissipation c
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 from numba import njit
 
+from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+from geardyn.solve.control import RunControl
 
 # channels of the energy accumulator
 E_IN, E_OUT, E_VISC, E_ROLL, E_FRIC, E_SQZ, E_MODAL = range(7)
@@ -37,53 +43,54 @@ def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf):  # pragma:
 
 
 @njit(cache=True)
-def run_loop(
-    q, v, dt, n_steps, rec_every, Minv, K, C, bargs, margs,
-    drive_dof, load_dof, ref_dof, drive_sign, load_sign, ref_sign, load_torque,
-    t_ref, w_ref, kp, ki, t0_drive, integ0, max_disp, rec_dofs,
+def start_loop(
+    q, v, Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign, load_sign,
+    ref_sign, load_torque, t_ref, w_ref, kp, ki, t0_drive, integ0,
+    a, fext, diss, bl, mf, sc,
 ):  # pragma: no cover - compiled
-    """Integrate; returns (records, energy, n_done, status). status 0 ok, 1 diverged.
+    """Initial state of the loop at t = 0: drive torque, acceleration ``a``, dissipation
+    powers ``diss``, bearing loads ``bl``, mesh forces ``mf``; ``sc`` = [t, ∫e, T_d]."""
+    n = q.size
+    f = np.zeros(n)
+    t = 0.0
+    wr = np.interp(t, t_ref, w_ref)
+    err = wr - ref_sign_speed(v, ref_dof, ref_sign)
+    td = t0_drive + kp * err + ki * integ0
+    fext[:] = 0.0
+    fext[drive_dof] = drive_sign * td
+    fext[load_dof] = -load_sign * load_torque
+    diss[:] = 0.0
+    a[:] = _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf)
+    sc[0] = t
+    sc[1] = integ0
+    sc[2] = td
+
+
+@njit(cache=True)
+def run_chunk(
+    q, v, a, fext, diss, bl, mf, energy, sc, step0, step1, dt, rec_every, rec,
+    Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign, ref_sign,
+    t_ref, w_ref, kp, ki, t0_drive, max_disp, rec_dofs,
+):  # pragma: no cover - compiled
+    """Advance global steps ``step0`` → ``step1`` (velocity Verlet); the loop state (q, v, a,
+    fext, diss, bl, mf, energy, sc = [t, ∫e, T_d]) is updated in place so that chunks continue
+    exactly. Global step s is recorded (before advancing it) in row s // rec_every of ``rec``
+    when s is a multiple of ``rec_every``. Returns (last step reached, status): status 0 ok,
+    1 diverged while advancing from that step.
 
     Record columns: t, drive torque, angles and speeds of ``rec_dofs``, per bearing Σ Q_j,
     then housing force x, then y (n_bearings each), mesh forces."""
     n = q.size
-    nrec = n_steps // rec_every + 1
-    nb = bargs[0].size
-    nm = margs[0].size
+    nb = bl.shape[0]
+    nm = mf.size
     nd = rec_dofs.size
-    rec = np.zeros((nrec, 2 + 2 * nd + 3 * nb + nm))
-    energy = np.zeros(7)
     f = np.zeros(n)
-    fext = np.zeros(n)
-    diss = np.zeros(5)
-    bl = np.zeros((nb, 3))
-    mf = np.zeros(nm)
-    integ = integ0
-    t = 0.0
-    wr = np.interp(t, t_ref, w_ref)
-    err = wr - ref_sign_speed(v, ref_dof, ref_sign)
-    td = t0_drive + kp * err + ki * integ
-    fext[drive_dof] = drive_sign * td
-    fext[load_dof] = -load_sign * load_torque
-    a = _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf)
-    ir = 0
-    status = 0
-    step = 0
-    for step in range(n_steps + 1):
+    t = sc[0]
+    integ = sc[1]
+    td = sc[2]
+    for step in range(step0, step1):
         if step % rec_every == 0:
-            rec[ir, 0] = t
-            rec[ir, 1] = td
-            for j in range(nd):
-                rec[ir, 2 + j] = q[rec_dofs[j]]
-                rec[ir, 2 + nd + j] = v[rec_dofs[j]]
-            for j in range(nb):
-                for c in range(3):
-                    rec[ir, 2 + 2 * nd + c * nb + j] = bl[j, c]
-            for j in range(nm):
-                rec[ir, 2 + 2 * nd + 3 * nb + j] = mf[j]
-            ir += 1
-        if step == n_steps:
-            break
+            record(rec, step // rec_every, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm)
         # power before the step (trapezoid)
         p_in0 = fext[drive_dof] * v[drive_dof]
         p_out0 = -fext[load_dof] * v[load_dof]
@@ -98,25 +105,41 @@ def run_loop(
         td = t0_drive + kp * err + ki * integ
         fext[drive_dof] = drive_sign * td
         diss[:] = 0.0
-        a = _accel(q, vp, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf)
-        v = vh + 0.5 * dt * a
+        a[:] = _accel(q, vp, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf)
+        v[:] = vh + 0.5 * dt * a
         p_in1 = fext[drive_dof] * v[drive_dof]
         p_out1 = -fext[load_dof] * v[load_dof]
         energy[E_IN] += 0.5 * dt * (p_in0 + p_in1)
         energy[E_OUT] += 0.5 * dt * (p_out0 + p_out1)
         for c in range(5):
             energy[2 + c] += 0.5 * dt * (d0[c] + diss[c])
+        sc[0] = t
+        sc[1] = integ
+        sc[2] = td
         if not (np.abs(q[ref_dof]) < 1e12) or np.abs(a).max() > 1e30:
-            status = 1
-            break
+            return step, 1
         ok = True
         for j in range(n):
             if j % 6 < 5 and abs(q[j]) > max_disp:
                 ok = False
         if not ok:
-            status = 1
-            break
-    return rec[:ir], energy, step, status, q, v, integ
+            return step, 1
+    return step1, 0
+
+
+@njit(cache=True)
+def record(rec, ir, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm):  # pragma: no cover
+    """Row ``ir`` of the records (columns: see :func:`run_chunk`)."""
+    rec[ir, 0] = t
+    rec[ir, 1] = td
+    for j in range(nd):
+        rec[ir, 2 + j] = q[rec_dofs[j]]
+        rec[ir, 2 + nd + j] = v[rec_dofs[j]]
+    for j in range(nb):
+        for c in range(3):
+            rec[ir, 2 + 2 * nd + c * nb + j] = bl[j, c]
+    for j in range(nm):
+        rec[ir, 2 + 2 * nd + 3 * nb + j] = mf[j]
 
 
 @njit(cache=True)
@@ -130,3 +153,91 @@ def stable_time_step(M: np.ndarray, K_lin: np.ndarray) -> float:
 
     w2 = eigh(K_lin, M, eigvals_only=True, subset_by_index=[M.shape[0] - 1, M.shape[0] - 1])
     return 2.0 / math.sqrt(w2[0])
+
+
+#: Loop state carried between chunks and written to checkpoints.
+STATE = ("q", "v", "a", "fext", "diss", "bl", "mf", "energy", "sc")
+
+
+def run_loop(
+    q, v, dt, n_steps, rec_every, Minv, K, C, bargs, margs,  # noqa: ANN001
+    drive_dof, load_dof, ref_dof, drive_sign, load_sign, ref_sign, load_torque,  # noqa: ANN001
+    t_ref, w_ref, kp, ki, t0_drive, integ0, max_disp, rec_dofs,  # noqa: ANN001
+    control: RunControl | None = None,
+) -> tuple:
+    """Integrate ``n_steps`` steps in chunks; returns (records, energy, steps done, status, q,
+    v, ∫e). status 0 ok, 1 diverged, 2 stopped by ``control`` (the records cover the steps
+    done). ``control.resume`` continues a checkpointed run of the same setup."""
+    ctl = control or RunControl()
+    n = q.size
+    nb = bargs[0].size
+    nm = margs[0].size
+    nd = rec_dofs.size
+    nrec = n_steps // rec_every + 1
+    rec = np.zeros((nrec, 2 + 2 * nd + 3 * nb + nm))
+    st = {"q": np.array(q, float), "v": np.array(v, float), "a": np.zeros(n),
+          "fext": np.zeros(n), "diss": np.zeros(5), "bl": np.zeros((nb, 3)), "mf": np.zeros(nm),
+          "energy": np.zeros(7), "sc": np.zeros(3)}
+    run_id = {"scheme": "verlet", "nsteps": int(n_steps), "dt": float(dt),
+              "rec_every": int(rec_every), "n": int(n), "ncols": int(rec.shape[1])}
+    if ctl.resume is not None:
+        done = _resume(ctl.resume, run_id, st, rec)
+    else:
+        start_loop(st["q"], st["v"], Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof,
+                   drive_sign, load_sign, ref_sign, load_torque, t_ref, w_ref, kp, ki,
+                   t0_drive, integ0, st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
+                   st["sc"])
+        done = 0
+
+    def state() -> dict:
+        return {**run_id, "step": done, **st, "rec": rec[: _recorded(done, rec_every)]}
+
+    status = 0
+    while done < n_steps:
+        m = ctl.next_chunk(done, n_steps)
+        w = time.perf_counter()
+        reached, code = run_chunk(
+            st["q"], st["v"], st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
+            st["energy"], st["sc"], done, done + m, dt, rec_every, rec, Minv, K, C, bargs,
+            margs, drive_dof, load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki,
+            t0_drive, max_disp, rec_dofs)
+        w = time.perf_counter() - w
+        if code != 0:
+            done, status = reached, 1
+            break
+        done += m
+        ctl.chunk_done(m, w, done, n_steps, state)
+        if ctl.stop_requested and done < n_steps:
+            status = 2
+            break
+    if status == 0 and n_steps % rec_every == 0:
+        sc = st["sc"]
+        record(rec, n_steps // rec_every, sc[0], sc[2], st["q"], st["v"], st["bl"], st["mf"],
+               rec_dofs, nd, nb, nm)
+    if status == 0:
+        rows = n_steps // rec_every + 1
+    elif status == 1:  # advancing from step `done` failed: that step was recorded if due
+        rows = _recorded(done + 1, rec_every)
+    else:
+        rows = _recorded(done, rec_every)
+    return (rec[:rows], st["energy"], done, status, st["q"], st["v"], float(st["sc"][1]))
+
+
+def _resume(saved: dict, run_id: dict, st: dict, rec: np.ndarray) -> int:
+    """Fill the loop state and the records from checkpoint ``saved`` (same run only)."""
+    for k, val in run_id.items():
+        got = saved.get(k)
+        got = got.item() if isinstance(got, np.ndarray) and got.ndim == 0 else got
+        if got != val:
+            raise InputError(f"resume: the checkpoint is of another run ({k} = {got!r}, this "
+                             f"run has {val!r})")
+    for k in STATE:
+        st[k][...] = saved[k]
+    done = int(saved["step"])
+    rec[: _recorded(done, run_id["rec_every"])] = saved["rec"]
+    return done
+
+
+def _recorded(steps: int, rec_every: int) -> int:
+    """Rows recorded once global steps 0 … steps − 1 have been advanced."""
+    return (steps + rec_every - 1) // rec_every

@@ -21,6 +21,8 @@ from geardyn.models.transmission.assembly import (
 )
 from geardyn.models.transmission.integrate import run_loop, stable_time_step
 from geardyn.results import finish, shaft_variables
+from geardyn.solve.control import RunControl
+from geardyn.solve.sanity import check_energy, check_time_step
 
 
 class SimulationDivergedError(GeardynError):
@@ -89,13 +91,20 @@ def simulate(
     revolutions: float | None = None,
     prepared: Prepared | None = None,
     model: TransmissionModel | None = None,
+    control: RunControl | None = None,
+    check_step: bool = False,
 ) -> xr.Dataset:
     """Run the speed law of ``cfg.transmission`` (``revolutions`` of the reference shaft
     overrides the config), or, without a speed law, the plain torque laws (constant drive and
     load torques) for ``simulation.duration_s`` from ``simulation.initial_rpm`` of the drive.
 
     Returns time histories of every shaft's angle and speed at its first node, drive torque,
-    bearing loads, mesh forces; energy terms in ``attrs``."""
+    bearing loads, mesh forces; energy terms in ``attrs``. ``control``: progress, cost
+    estimate, stop requests (status ``interrupted``), checkpoints and resume of the chunked
+    loop. ``check_step`` (the CLI and :func:`geardyn.run.run_simulation`): the time step is
+    checked first (above the explicit stability limit, or under two steps per mesh cycle:
+    InputError naming ``time_step_s``; without it such a run diverges). A run whose mesh
+    deflection exceeds 0.1 module or whose energy balance does not close ends ``suspect``."""
     t = cfg.transmission
     sl = t.speed_law
     model = model or (prepared.model if prepared else build_model(cfg))
@@ -121,6 +130,11 @@ def simulate(
         w0 = w1 = t.simulation.initial_rpm * math.pi / 30
         duration = t.simulation.duration_s
     dt = t.simulation.time_step_s or 0.8 * prep.dt_stable
+    if check_step:
+        check_time_step(dt, "transmission.simulation.time_step_s" if t.simulation.time_step_s
+                        else "transmission.simulation.time_step_s (default: 0.8 × stability "
+                        "limit)", mesh_period_s=_mesh_period(model, ratios, max(abs(w0), abs(w1))),
+                        stable_limit_s=prep.dt_stable)
     n_steps = int(math.ceil(duration / dt))
     rec_every = max(1, int(round(1.0 / (t.simulation.record_rate_hz * dt))))
     # rigid-body initial speeds on θz
@@ -157,7 +171,7 @@ def simulate(
         model.node_sign(model.drive_node), model.node_sign(model.load_node),
         model.node_sign(ref_node), model.load_torque,
         np.array([0.0, duration, duration * 10 + 1.0]), np.array([w0, w1, w1]),
-        kp, ki, t_drive0, 0.0, 0.05, rec_dofs,
+        kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs, control=control,
     )
     t_run = _time.perf_counter() - t1
     nd = len(shafts)
@@ -197,7 +211,16 @@ def simulate(
         "natural_frequencies_hz": prep.frequencies_hz[prep.frequencies_hz > 1.0][:30],
     })
     finish(ds, "transmission", ref_shaft)
-    if status != 0:
+    if status == 2:
+        ds.attrs["status"] = "interrupted"
+        ds.attrs["diagnosis"] = (
+            f"{(control.stop_reason if control else '') or 'interrupted'} at t = "
+            f"{n_done * dt:.6g} s (step {n_done} of {n_steps}): the computed part is kept")
+    elif status == 0:
+        ds.attrs["energy_stored_start_J"] = stored_energy(model, prep.q0, v)
+        ds.attrs["energy_stored_end_J"] = stored_energy(model, q, vend)
+        _output_checks(ds, model)
+    if status == 1:
         ds.attrs["status"] = "diverged"
         ds.attrs["diagnosis"] = (f"diverged at t = {n_done * dt:.6f} s (step {n_done}): "
                                  "displacements exceeded 50 mm or accelerations overflowed")
@@ -208,6 +231,80 @@ def simulate(
             ds,
         )
     return ds
+
+
+#: Largest translation of a node [m] before the run counts as diverged.
+MAX_DISPLACEMENT_M = 0.05
+#: A mesh deflection beyond this fraction of the normal module is not a gear mesh any more.
+MAX_DEFLECTION_PER_MODULE = 0.1
+
+
+def _mesh_period(model: TransmissionModel, ratios: dict[str, float], w_max: float
+                 ) -> float | None:
+    """Shortest mesh period [s] at reference speed ``w_max`` [rad/s]: f = z_a |ω_a| / 2π."""
+    node_shaft = {n: s for s, ids in model.shaft_nodes.items() for n in ids}
+    f = 0.0
+    for i, g in enumerate(model.meshes.geometry):
+        r = ratios.get(node_shaft.get(int(model.meshes.na[i]), ""), 0.0)
+        f = max(f, g.a.teeth * abs(r * w_max) / (2 * math.pi))
+    return 1.0 / f if f > 0 else None
+
+
+def mean_mesh_stiffness(model: TransmissionModel) -> np.ndarray:
+    """Mean over one mesh cycle of each mesh's structural stiffness Σ_p K_tot,p [N/m]
+    (the pair stiffness table of :func:`geardyn.gears.mesh_stiffness`)."""
+    mh = model.meshes
+    out = np.zeros(len(mh.names))
+    for i in range(len(mh.names)):
+        out[i] = float(np.mean(np.sum(mh.ks[i, : int(mh.tlen[i])], axis=-1)))
+    return out
+
+
+def stored_energy(model: TransmissionModel, q: np.ndarray, v: np.ndarray) -> float:
+    """Kinetic ½vᵀMv plus the elastic energy of the shafts ½qᵀKq [J] (the contact energy of
+    bearings and meshes is small beside them and not booked)."""
+    return 0.5 * float(v @ model.M @ v) + 0.5 * float(q @ model.K @ q)
+
+
+def _output_checks(ds: xr.Dataset, model: TransmissionModel) -> None:
+    """Status ``suspect`` when a mesh deflects more than 0.1 module (deflection estimated as
+    force / mean mesh stiffness) or the energy balance does not close."""
+    problems = []
+    k = mean_mesh_stiffness(model)
+    f = np.abs(np.asarray(ds["mesh_force"].values, float))
+    for i, g in enumerate(model.meshes.geometry):
+        if f.shape[0] == 0 or k[i] <= 0:
+            continue
+        d = float(np.nanmax(f[:, i])) / k[i]
+        m = g.normal_module
+        if not math.isfinite(d) or d > MAX_DEFLECTION_PER_MODULE * m:
+            problems.append(f"mesh '{model.meshes.names[i]}': deflection up to {d * 1e3:.3g} mm "
+                            f"(force / mean mesh stiffness) for a module of {m * 1e3:.3g} mm "
+                            f"(more than {MAX_DEFLECTION_PER_MODULE:g} × module)")
+    e = energy_terms(ds)
+    problem = check_energy(e) if e else ""
+    if problem:
+        problems.append(problem)
+    if problems:
+        ds.attrs["status"] = "suspect"
+        ds.attrs["diagnosis"] = "; ".join(problems) + "; the computed part is kept"
+
+
+def energy_terms(ds: xr.Dataset) -> dict[str, float]:
+    """The FE run's energy balance in the terms of :func:`geardyn.solve.sanity.check_energy`:
+    applied = input − output work, dissipated = Σ dissipation channels, stored = kinetic +
+    shaft elastic energy (in ``kinetic_*``)."""
+    a = ds.attrs
+    if "energy_stored_end_J" not in a:
+        return {}
+    diss = sum(float(a[f"energy_{k}"]) for k in ("bearing_viscous_J", "rolling_resistance_J",
+                                                 "gear_friction_J", "squeeze_film_J",
+                                                 "modal_damping_J"))
+    return {"applied_J": float(a["energy_input_J"]) - float(a["energy_output_J"]),
+            "gross_applied_J": abs(float(a["energy_input_J"])) + abs(float(a["energy_output_J"])),
+            "dissipated_J": diss, "kinetic_start_J": float(a["energy_stored_start_J"]),
+            "kinetic_end_J": float(a["energy_stored_end_J"]), "potential_start_J": 0.0,
+            "potential_end_J": 0.0}
 
 
 def _shaft_of(model: TransmissionModel, node: int) -> str:
