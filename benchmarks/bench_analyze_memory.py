@@ -13,7 +13,6 @@ resampling at the angle instants and ``numpy.fft.rfft``), also in a subprocess. 
 from __future__ import annotations
 
 import os
-import resource
 import subprocess
 import sys
 import tempfile

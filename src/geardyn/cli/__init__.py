@@ -35,6 +35,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "diagnose": ("geardyn.cli.diagnose",
                  "Healthy baseline, thresholds and a verdict per component."),
     "demo": ("geardyn.cli.demo", "Run the examples of the sources and print their results."),
+    "init": ("geardyn.cli.init", "Write a commented starter config from a template."),
     "schema": ("geardyn.cli.schema", "JSON Schema of the config file (editor completion)."),
     "sweep": ("geardyn.cli.sweep", "Parameter sweep on dask.distributed into a Zarr data set."),
 }

@@ -17,7 +17,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from geardyn.cli import app
-from geardyn.cli.common import console, friendly_errors
+from geardyn.cli.common import check_number, console, friendly_errors
 from geardyn.errors import InputError
 
 _STYLE = {"alarm": "bold red", "healthy": "green", "unknown": "dim"}
@@ -101,6 +101,21 @@ def diagnose_cmd(
     from geardyn.config import load_config
     from geardyn.diagnosis.pipeline import check_output_dir, diagnose, diagnose_files
 
+    check_number(k, "--k", gt=0, le=1e3)
+    check_number(sigma_floor, "--sigma-floor", ge=0, le=1)
+    check_number(blocks, "--blocks", ge=1, le=64)
+    check_number(skip, "--skip", ge=0, le=1e7, unit="s")
+    check_number(t_end, "--t-end", gt=0, le=1e7, unit="s")
+    check_number(revolutions, "--revolutions", gt=0, le=1e7)
+    check_number(record_seed, "--record-seed", ge=0)
+    for seed in parse_seeds(seeds) or []:
+        check_number(seed, "--seeds", ge=0)
+    if skip is not None and t_end is not None and skip >= t_end:
+        raise InputError(f"--skip: the discarded start {skip:g} s must be shorter than --t-end "
+                         f"{t_end:g} s")
+    for path, option in [(p, "--baseline") for p in baseline or []] + [(record, "--record")]:
+        if path is not None and not path.is_file():
+            raise InputError(f"{option}: file '{path}' does not exist")
     if bool(baseline) != (record is not None):
         raise InputError("--baseline and --record go together: give healthy result file(s) "
                          "and the record to judge, or neither (simulate both)")

@@ -9,10 +9,20 @@ import typer
 from rich.table import Table
 
 from geardyn.cli import app
-from geardyn.cli.common import console, friendly_errors
+from geardyn.cli.common import check_number, check_output_file, console, friendly_errors
 from geardyn.config import load_config
 from geardyn.config.gears import pair_model, pair_names
 from geardyn.errors import ConfigError
+
+
+def summary_row(key: str, value: float) -> tuple[str, str]:
+    """A geometry summary entry as (label with its unit, value in that unit): lengths
+    (``…_m``) in mm, angles (``…_deg``) in degrees, ratios without unit."""
+    if key.endswith("_m"):
+        return f"{key[:-2]} (mm)", f"{value * 1e3:.4f}"
+    if key.endswith("_deg"):
+        return f"{key[:-4]} (deg)", f"{value:.4f}"
+    return f"{key} (-)", f"{value:.5f}"
 
 
 @app.command("stiffness")
@@ -31,14 +41,18 @@ def stiffness_cmd(
     from geardyn.gears.pe_stiffness import mesh_stiffness
     from geardyn.gears.plot import plot_stiffness
 
+    check_number(cycles, "--cycles", gt=0, le=1e4)
+    check_number(samples, "--samples", ge=4, le=1 << 16)
+    if plot is not None:
+        check_output_file(plot, "--plot")
+    if netcdf is not None:
+        check_output_file(netcdf, "--netcdf")
     cfg = load_config(config)
     names = [pair] if pair else pair_names(cfg)
     if not names:
         raise ConfigError("the config has no [[gear_geometry]] entries", source=str(config))
     if plot is not None and len(names) > 1:
         raise ConfigError("--plot needs --pair NAME when the config has several pairs")
-    if samples < 4 or cycles <= 0:
-        raise ConfigError("--samples must be ≥ 4 and --cycles > 0")
     for name in names:
         pm = pair_model(cfg, name)
         g = pm.geometry
@@ -57,7 +71,7 @@ def stiffness_cmd(
         t.add_column("quantity")
         t.add_column("value", justify="right")
         for k, v in g.summary().items():
-            t.add_row(k, f"{v * 1e3:.4f} mm" if k.endswith("_m") else f"{v:.5f}")
+            t.add_row(*summary_row(k, v))
         k = healthy.total
         t.add_row("k mean (N/m)", f"{k.mean():.4e}")
         t.add_row("k min / max (N/m)", f"{k.min():.4e} / {k.max():.4e}")

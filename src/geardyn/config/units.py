@@ -49,6 +49,7 @@ SUFFIXES: dict[str, Suffix] = {
     "_m": Suffix("m", "a length", 100.0),
     "_s": Suffix("s", "a time", 1e7),
     "_w": Suffix("W", "a power", 1e10),
+    "_n": Suffix("N", "a force", 1e9),
 }
 
 #: Fields whose values are ``[[t_s, value], …]`` pairs: the first entry is a time.

@@ -1,0 +1,156 @@
+"""``geardyn init``, ``geardyn schema``, the config reference, help texts, JSON numbers, table
+widths and lazy imports (issue 13 item 5)."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import pytest
+from typer.testing import CliRunner
+
+from geardyn.cli import COMMANDS, app
+from geardyn.config import load_config
+
+runner = CliRunner()
+
+
+@pytest.mark.parametrize(
+    ("template", "command"),
+    [
+        ("parallel", ["kinematics"]),
+        ("parallel", ["stiffness", "--samples", "16"]),
+        ("planetary", ["modes"]),
+        ("transmission", ["transmission", "--revolutions", "0.05"]),
+    ],
+)
+def test_init_templates_load_and_run(tmp_path, template, command):
+    path = tmp_path / f"{template}.toml"
+    r = runner.invoke(app, ["init", template, str(path)])
+    assert r.exit_code == 0, r.output
+    text = path.read_text()
+    assert text.count("\n#") >= 5  # commented
+    load_config(path)
+    r = runner.invoke(app, [command[0], str(path), *command[1:]])
+    assert r.exit_code == 0, r.output
+
+
+def test_init_refuses_unknown_template_and_overwrite(tmp_path):
+    r = runner.invoke(app, ["init", "helical", str(tmp_path / "x.toml")])
+    assert r.exit_code == 2 and "TEMPLATE: unknown template 'helical'" in r.output
+    path = tmp_path / "p.toml"
+    assert runner.invoke(app, ["init", "parallel", str(path)]).exit_code == 0
+    r = runner.invoke(app, ["init", "parallel", str(path)])
+    assert r.exit_code == 2 and "exists" in r.output
+    assert runner.invoke(app, ["init", "parallel", str(path), "--force"]).exit_code == 0
+
+
+def test_config_reference_is_up_to_date():
+    from geardyn.config.reference import default_path, reference_markdown
+
+    assert default_path().read_text() == reference_markdown(), (
+        "docs/config.md is out of date: run python -m geardyn.config.reference")
+
+
+def test_schema_lists_sections_and_accepts_units(tmp_path):
+    out = tmp_path / "s.json"
+    r = runner.invoke(app, ["schema", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    schema = json.loads(out.read_text())
+    assert {"planetary_dynamics", "transmission", "sensors", "gear_geometry"} <= set(
+        schema["properties"])
+    module = schema["$defs"]["GearGeometryConfig"]["properties"]["normal_module_m"]
+    kinds = [o.get("type") for o in module["anyOf"]]
+    assert "number" in kinds and "string" in kinds  # "3 mm" allowed
+
+
+def test_help_texts_keep_brackets():
+    r = runner.invoke(app, ["stiffness", "--help"], terminal_width=100)
+    assert "[[gear_geometry]]" in r.output
+    r = runner.invoke(app, ["analyze", "--help"], terminal_width=100)
+    assert "[s]" in r.output and "[Hz]" in r.output
+
+
+def test_top_help_lists_every_command():
+    r = runner.invoke(app, ["--help"], terminal_width=100)
+    assert r.exit_code == 0
+    for name in COMMANDS:
+        assert name in r.output
+
+
+def test_kinematics_json_has_numeric_ratios(examples_dir):
+    r = runner.invoke(app, ["kinematics", str(examples_dir / "car_differential.toml"), "--json"])
+    assert r.exit_code == 0, r.output
+    data = json.loads(r.output)
+    pinion = next(row for row in data["links"] if row["link"] == "drive_pinion")
+    # seed 000 Table 1: the drive pinion turns at -2.5 × each wheel speed (both inputs)
+    for ratio in pinion["ratio"].values():
+        assert ratio["real"] == pytest.approx(-2.5, rel=1e-9)
+        assert ratio["magnitude"] == pytest.approx(2.5, rel=1e-9)
+        assert abs(ratio["angle_deg"]) == pytest.approx(180.0)
+
+
+def _table_width(text: str) -> int:
+    return max((len(line) for line in text.splitlines() if line[:1] in "┏┃│└┡"), default=0)
+
+
+@pytest.mark.parametrize(("example", "last_column"), [("car_differential.toml", "ratio"),
+                                                      ("seed002_transmission.toml", "bsf_order")])
+def test_kinematics_tables_fit_100_columns(examples_dir, example, last_column):
+    r = runner.invoke(app, ["kinematics", str(examples_dir / example)])
+    assert r.exit_code == 0, r.output
+    assert 0 < _table_width(r.output) <= 100
+    assert last_column in r.output  # wide tables split into parts, not cut
+
+
+def test_stiffness_rows_carry_their_unit(examples_dir):
+    from geardyn.cli.stiffness import summary_row
+
+    assert summary_row("centre_distance_m", 0.1455) == ("centre_distance (mm)", "145.5000")
+    assert summary_row("working_pressure_angle_deg", 20.0)[0] == "working_pressure_angle (deg)"
+    r = runner.invoke(app, ["stiffness", str(examples_dir / "seed002_two_stage.toml"),
+                            "--pair", "low", "--samples", "16"])
+    assert r.exit_code == 0, r.output
+    assert "centre_distance (mm)" in r.output and "_m " not in r.output
+    # 145.5 mm = m_n (z1 + z2) / 2 = 3 mm × 97 / 2 (spur low stage of seed 002 Table 2)
+    assert "145.5000" in r.output
+
+
+def test_import_geardyn_is_light():
+    code = ("import sys, geardyn; heavy = [m for m in ('pandas', 'xarray', 'matplotlib', "
+            "'scipy', 'pint') if m in sys.modules]; print(','.join(heavy))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == ""
+
+
+def test_accessor_registered_when_xarray_is_imported():
+    code = ("import geardyn, xarray as xr; print(hasattr(xr.Dataset(), 'geardyn'))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "True"
+
+
+def test_units_in_config_strings(tmp_path):
+    from geardyn.config.units import to_unit
+
+    assert to_unit("3 mm", "m", "a length") == pytest.approx(0.003)
+    assert to_unit("25 Hz", "rpm", "a rotational speed") == pytest.approx(1500.0)
+    assert to_unit("157.0796327 rad/s", "rpm", "a rotational speed") == pytest.approx(1500.0)
+    assert to_unit("1500 rpm", "Hz", "a frequency") == pytest.approx(25.0)
+    assert to_unit("0.5", "deg", "an angle") == 0.5  # no unit: the field's unit
+    assert to_unit("1 rad", "deg", "an angle") == pytest.approx(math.degrees(1.0))
+    with pytest.raises(ValueError, match="'3 rpm' is not a length"):
+        to_unit("3 rpm", "m", "a length")
+    cfg = tmp_path / "u.toml"
+    from geardyn.templates import render
+
+    text = render("parallel", "u.toml").replace("normal_module_m = 0.003",
+                                                 'normal_module_m = "3 mm"')
+    text = text.replace("input = 1500.0", 'input = "25 Hz"')
+    cfg.write_text(text)
+    c = load_config(cfg)
+    assert c.gear_geometry[0].normal_module_m == pytest.approx(0.003)
+    assert c.input_speeds_rpm["input"] == pytest.approx(1500.0)
