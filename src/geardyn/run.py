@@ -54,6 +54,10 @@ def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: AN
         ctl.progress = progress
     if pdyn is not None and pdyn.simulation is not None:
         ds = _planetary(cfg, int(seed), t_end_s, ctl)
+    elif getattr(cfg, "dynamics", None) is not None and cfg.dynamics.simulation is not None:
+        from geardyn.models.core.simulate import simulate as simulate_mechanism
+
+        ds = simulate_mechanism(cfg, t_end_s, ctl.progress)
     elif getattr(cfg, "transmission", None) is not None:
         ds = _transmission(cfg, revolutions, t_end_s, ctl)
     else:

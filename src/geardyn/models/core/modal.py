@@ -1,0 +1,44 @@
+"""Modes of the general torsional model: ω² M φ = K φ with the mean mesh stiffnesses.
+
+Same result object as the planetary model (:class:`geardyn.solve.modal.ModalResult`):
+frequencies (Hz), mass-normalised shapes, multiplicities, kinetic energy per DOF
+Ec_k = ½ ω² φ_k (Mφ)_k and strain energy per element Ep_e = ½ k_e (a_eᵀφ)² (seed 003 eqs
+3.28-3.29). Mode types: ``rigid`` below ``zero_hz`` (the kinematic nullspace, seed 000 eq 5),
+else ``torsional``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+
+from geardyn.models.core.model import CoreModel
+from geardyn.solve.modal import ModalResult
+
+
+def core_modes(model: CoreModel, rtol: float = 1e-6, atol_hz: float = 1e-3,
+               zero_hz: float = 1e-2) -> ModalResult:
+    """Natural frequencies, shapes and energies of ``model`` (mean mesh stiffness)."""
+    mm = model.mass_matrix()
+    kk = model.stiffness_matrix()
+    w2, phi = sla.eigh(kk, mm)
+    freq = np.sqrt(np.clip(w2, 0.0, None)) / (2 * np.pi)
+    freq[freq < zero_hz] = 0.0
+    mult = np.ones(len(freq), int)
+    start = 0
+    for i in range(1, len(freq) + 1):
+        if i == len(freq) or abs(freq[i] - freq[start]) > max(atol_hz, rtol * freq[i]):
+            mult[start:i] = i - start
+            start = i
+    types = ["rigid" if f == 0.0 else "torsional" for f in freq]
+    w2v = (2 * np.pi * freq) ** 2
+    kinetic = 0.5 * w2v[:, None] * (phi * (mm @ phi)).T
+    rows = [m.a for m in model.meshes] + [s.a for s in model.springs]
+    k = np.array([m.k_mean for m in model.meshes] + [s.k for s in model.springs])
+    a = np.array(rows).reshape(len(rows), model.n)
+    strain = 0.5 * k[None, :] * (a @ phi).T ** 2
+    names = [m.name for m in model.meshes] + [s.name for s in model.springs]
+    bins = [f"mesh {m.name}" for m in model.meshes] + [f"{s.kind} {s.name}"
+                                                          for s in model.springs]
+    return ModalResult(freq, phi, mult, types, kinetic, strain, list(model.dof_names), names,
+                       bins, (phi * (mm @ phi)).T)
