@@ -40,7 +40,7 @@ def stationary(d: dict, rpm: float = 1498.5, ring_torque_nm: float = 100.0) -> d
     sim = d["planetary_dynamics"]["simulation"]
     body = sim["speed_controls"][0]["body"]
     sim["initial_speed_rpm"] = {body: rpm}
-    sim["speed_controls"][0]["profile_rpm"] = [[0.0, rpm], [1e3, rpm]]
+    sim["speed_controls"][0]["profile_rpm"] = [[0.0, rpm], [10.0, rpm]]
     sim["torques"] = [{"body": "reaction.ring", "torque_nm": ring_torque_nm}]
     return d
 
