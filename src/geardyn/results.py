@@ -14,8 +14,9 @@ A simulation result is an :class:`xarray.Dataset` with
   ``sensors.<name>.pulse`` for tacho pulse times), with attrs ``units``, ``long_name``,
   ``sensor_kind``, ``sampling``, ``shaft`` (the shaft the channel is referenced to) and the
   sampling parameters;
-* attrs ``geardyn_layout``, ``model``, ``status`` (``ok``, ``diverged``, ``stopped``,
-  ``reversed``), ``diagnosis``, ``seed``, ``reference_shaft``.
+* attrs ``geardyn_layout``, ``model``, ``status`` (``ok``, ``diverged``, ``interrupted``,
+  ``suspect``, ``stopped``, ``reversed``: docs/robustness.md), ``diagnosis``, ``seed``,
+  ``reference_shaft``.
 
 This module reads the layout (channels, shaft angles) and checks it; builders in the model
 packages write it.
@@ -186,12 +187,18 @@ def check_rotation(ds: xr.Dataset, shafts_seen: list[str]) -> list[str]:
 
 
 def to_netcdf(ds: xr.Dataset, path) -> None:  # noqa: ANN001 - str | Path
-    """Write a result as NetCDF4 (h5netcdf); attrs that NetCDF cannot hold become strings."""
+    """Write a result as NetCDF4 (h5netcdf); attrs that NetCDF cannot hold become strings.
+
+    The file is written under a temporary name in the same directory and renamed
+    (:func:`geardyn.checkpoint.write_atomic`): a run killed while writing leaves no corrupt
+    file at ``path``."""
+    from geardyn.checkpoint import write_atomic
+
     out = ds.copy()
     out.attrs = {k: _attr(v) for k, v in ds.attrs.items()}
     for v in out.variables.values():
         v.attrs = {k: _attr(x) for k, x in v.attrs.items()}
-    out.to_netcdf(path, engine="h5netcdf")
+    write_atomic(path, lambda tmp: out.to_netcdf(tmp, engine="h5netcdf"))
 
 
 def _attr(v):  # noqa: ANN001, ANN202

@@ -30,8 +30,21 @@ def transmission_cmd(
         None, "--campbell", help="Campbell table up to this reference-shaft speed (rpm)"
     ),
     seed: int = typer.Option(0, "--seed", help="seed of the sensors' random draws"),
+    force: bool = typer.Option(False, "--force", "--overwrite",
+                               help="overwrite an existing --netcdf file"),
+    checkpoint_every: float | None = typer.Option(
+        None, "--checkpoint-every", help="write the loop state to NETCDF.ckpt.npz every "
+        "SECONDS of wall-clock time (and on Ctrl-C), for --resume"),
+    resume: bool = typer.Option(False, "--resume", help="continue a killed or interrupted run "
+                                "from NETCDF.ckpt.npz (same config and options)"),
 ) -> None:
-    """Static preload, linearised modes and a speed-law run with IAS outputs."""
+    """Static preload, linearised modes and a speed-law run with IAS outputs.
+
+    Exit codes: 0 ok; 2 bad input or a diverged run; 3 the run ended suspect, stopped or
+    reversed; 130 interrupted by Ctrl-C/SIGTERM (with --netcdf the computed part is written
+    with status interrupted). See docs/robustness.md."""
+    from geardyn.checkpoint import check_output, checkpoint_path
+    from geardyn.cli.runs import check_run_options, exit_for_status, finish_run, run_with_control
     from geardyn.models.transmission import build_model, prepare, simulate
     from geardyn.models.transmission.simulate import SimulationDivergedError
     from geardyn.results import to_netcdf
@@ -39,8 +52,9 @@ def transmission_cmd(
 
     if revolutions is not None and not (math.isfinite(revolutions) and revolutions > 0):
         raise InputError(f"--revolutions: must be a finite number > 0, got {revolutions:g}")
-    if netcdf is not None and not netcdf.parent.exists():
-        raise InputError(f"--netcdf: directory {netcdf.parent} does not exist")
+    check_run_options(checkpoint_every)
+    if netcdf is not None:
+        check_output(netcdf, "--netcdf", overwrite=force or resume)
     cfg = load_config(config)
     if cfg.transmission is None:
         raise ConfigError("no [transmission] section", source=str(config))
@@ -77,7 +91,11 @@ def transmission_cmd(
     if modes_only:
         return
     try:
-        ds = simulate(cfg, revolutions=revolutions, prepared=prep)
+        ds = run_with_control(
+            cfg, netcdf, checkpoint_every, resume,
+            options={"seed": seed, "revolutions": revolutions},
+            run=lambda ctl: simulate(cfg, revolutions=revolutions, prepared=prep, control=ctl,
+                                     check_step=True))
     except SimulationDivergedError as exc:
         if netcdf is not None:
             to_netcdf(exc.result, netcdf)
@@ -88,14 +106,20 @@ def transmission_cmd(
     ein, eout = a["energy_input_J"], a["energy_output_J"]
     console.print(
         f"simulated {float(ds.time[-1]):.3f} s in {a['steps']} steps "
-        f"({a['wall_integrate_s']:.1f} s); efficiency {eout / ein:.3%}"
+        f"({a['wall_integrate_s']:.1f} s); efficiency "
+        f"{eout / ein if ein else float('nan'):.3%}"
     )
+    ckpt = checkpoint_path(netcdf) if netcdf is not None else None
     if netcdf is not None:
         ds.attrs["config"] = str(config)
-        to_netcdf(ds, netcdf)
+    finish_run(ds, netcdf, ckpt)
+    if netcdf is not None:
         console.print(f"time histories written to {netcdf} (layout: docs/results.md)")
+    if a["status"] == "interrupted":
+        exit_for_status(ds, ckpt)
     if plots is not None:
         from geardyn.models.transmission.report import write_figures
 
         for p in write_figures(ds, cfg, plots, shaft=shaft):
             console.print(f"figure {p}")
+    exit_for_status(ds, ckpt)
