@@ -15,9 +15,13 @@ k = 1/(1/k_h + Σ_gears (1/K_b + 1/K_s + 1/K_c + 1/K_f)); simultaneous pairs add
 
 Geometry: above the base circle the section follows the involute; between the root circle and
 the base circle (few teeth) the flank is taken as the radial line through the base-circle
-point (Chen & Shao's straight-line simplification). Internal-gear (ring) teeth use the concave
-involute of the ring with their root at the ring root circle. All compliances scale as
-1/width, so curves are computed per unit face width and scaled per slice.
+point (Chen & Shao's straight-line simplification) — the default ``root_fillet="involute"`` of
+:class:`~.geometry.GearBlank`. With ``root_fillet="trochoid"`` the section below the involute's
+form (junction) radius is the rack-generated trochoid (:mod:`.trochoid`), integrated in its
+normal angle γ, and the Sainsot root angle is the trochoid's θ_f = b1/r (the load height u_f is
+measured from the root circle along the centreline in both cases). Internal-gear (ring) teeth
+use the concave involute of the ring with their root at the ring root circle. All compliances
+scale as 1/width, so curves are computed per unit face width and scaled per slice.
 
 Helical gears (seed 002 §2.2, Fig 1): K thin slices along the face, each a spur slice whose
 contact position on the transverse line of action lags by z·tan β_b (stiffness along the
@@ -38,6 +42,7 @@ from geardyn.gears.contact import hertz_compliance
 from geardyn.gears.faults import Crack, Spall
 from geardyn.gears.fillet_foundation import fillet_foundation_compliance
 from geardyn.gears.geometry import MeshGeometry, inv
+from geardyn.gears.trochoid import trochoid_fillet
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -98,12 +103,21 @@ def tooth_compliance(
     tq = (_GX + 1.0) / 2.0  # [0, 1] nodes
     wq = _GW / 2.0
 
+    fillet = None  # fixed (fillet) segment: (y, h, w) on Gauss nodes, trochoid only
     if not blank.internal:
         theta_c = a2 - inv(ac)
         beta = np.tan(ac) - a2
         y_c = rc * np.cos(theta_c)
         h_c = rc * np.sin(theta_c)
         theta_f = a2 if rf <= rb else a2 - float(inv(math.acos(rb / rf)))
+        if blank.root_fillet == "trochoid":
+            tro = trochoid_fillet(g, gear)
+            theta_f = tro.root_angle
+            r_j = tro.junction_radius
+            gam = math.pi / 2 + (tro.pressure_angle - math.pi / 2) * tq
+            yf, hf = tro.point(gam)
+            wf = wq * (math.pi / 2 - tro.pressure_angle) * np.abs(tro.dy_dgamma(gam))
+            fillet = (yf[None, :], hf[None, :], wf[None, :])
         y_root = rf * math.cos(theta_f)
 
         def section(r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -113,11 +127,21 @@ def tooth_compliance(
             dy = np.where(r >= rb, np.cos(th) + np.sin(th) * np.tan(a_r), np.cos(a2))
             return r * np.cos(th), r * np.sin(th), dy
 
-        r_lo = rf
-        segs = [
-            (np.full_like(rc, r_lo), np.minimum(rc, max(rb, rf))),
-            (np.full_like(rc, max(rb, rf)), rc),
-        ]
+        if fillet is None:
+            segs = [
+                (np.full_like(rc, rf), np.minimum(rc, max(rb, rf))),
+                (np.full_like(rc, max(rb, rf)), rc),
+            ]
+        else:
+            segs = [(np.full_like(rc, r_j), np.maximum(rc, r_j))]
+            involute_section = section
+
+            def section(r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                """Involute above the fillet junction, trochoid below (crack start only)."""
+                if np.all(r >= r_j):
+                    return involute_section(r)
+                yq, hq = zip(*(tro.section_at_radius(float(x)) for x in np.ravel(r)), strict=True)
+                return np.array(yq), np.array(hq), np.full(np.size(r), np.nan)
         c_of = lambda y: y - y_root  # noqa: E731
         u_f = y_c - h_c * np.tan(beta) - rf
         tip_c = ra * math.cos(a2 - float(inv(math.acos(rb / ra)))) - y_root
@@ -164,14 +188,18 @@ def tooth_compliance(
                 f"(root half-thickness {float(hq0[0]) * 1e3:.3f} mm)"
             )
 
+    parts = []
     for lo, hi in segs:
         span = hi - lo
         if np.all(np.abs(span) <= 0):
             continue
         r = lo[:, None] + span[:, None] * tq[None, :]
         y, h, dy = section(r)
+        parts.append((y, h, wq[None, :] * span[:, None] * np.abs(dy)))
+    if fillet is not None:
+        parts.append(fillet)
+    for y, h, w in parts:
         c = c_of(y)
-        w = wq[None, :] * span[:, None] * np.abs(dy)
         if cracked:
             s = np.clip((c - c_q) / max(tip_c - c_q, 1e-12), 0.0, 1.0)
             h_dead = h_q + (tip_h - h_q) * s**2
