@@ -69,8 +69,18 @@ def sweep_cmd(
                         description=f"done {p.skipped + p.done} (failed {p.failed}) / left "
                         f"{p.left}", rate=_rate(p))
 
-        summary = run(sweep, out, scheduler=scheduler, n_workers=workers,
-                      retry_failed=retry_failed, progress=progress)
+        try:
+            summary = run(sweep, out, scheduler=scheduler, n_workers=workers,
+                          retry_failed=retry_failed, progress=progress)
+        except KeyboardInterrupt:
+            prog.stop()
+            if out.exists():
+                from geardyn.sweep.store import statuses
+
+                n = int((statuses(out) != "").sum())
+                console.print(f"{out}: {n} of {len(sweep.cases)} cases stored; run the same "
+                              "command again to finish the sweep", highlight=False)
+            raise
     from geardyn.sweep import open_dataset
 
     status = open_dataset(out)["status"].values

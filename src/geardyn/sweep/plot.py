@@ -30,7 +30,7 @@ def detectability(ds: xr.Dataset, component: str, indicator: str, severity: str,
         if name not in ds.coords:
             raise InputError(f"axis '{name}' is not in the data set (axes: "
                              f"{', '.join(ds.attrs.get('axes', '').strip('[]').split(','))})")
-    if "indicator" not in ds:
+    if "indicators" not in ds:
         raise InputError("the data set has no indicators (outputs.indicators)")
     comps = [str(c) for c in ds["component"].values]
     names = [str(c) for c in ds["indicator"].values]
@@ -38,7 +38,7 @@ def detectability(ds: xr.Dataset, component: str, indicator: str, severity: str,
         raise InputError(f"component '{component}' not in the data set ({', '.join(comps)})")
     if indicator not in names:
         raise InputError(f"indicator '{indicator}' not in the data set ({', '.join(names)})")
-    vals = ds["indicator"].sel(component=component, indicator=indicator).median("block")
+    vals = ds["indicators"].sel(component=component, indicator=indicator).median("block")
     frame = pd.DataFrame({k: np.asarray(ds[k].values) for k in [severity, *by]})
     frame["value"] = np.asarray(vals.values, float)
     frame = frame[np.asarray(ds["status"].values, dtype=object) == "ok"]

@@ -137,9 +137,11 @@ def _client(scheduler: str | None, n_workers: int | None) -> Iterator[Any]:
         raise InputError(f"workers: must be ≥ 1, got {n}")
     env = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}) or {})
     env.update(WORKER_ENV)
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": env}):
+    preload = [*dask.config.get("distributed.worker.preload", []), "geardyn.sweep._worker"]
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": env,
+                          "distributed.worker.preload": preload}):
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address=None, silence_logs=logging.CRITICAL)
         client = Client(cluster)
         try:
             yield client
@@ -164,6 +166,7 @@ def run(
     client: Any = None,
     retry_failed: bool = False,
     overrides: dict[str, Any] | None = None,
+    cases: list[int] | None = None,
     progress: Callable[[SweepProgress], None] | None = None,
 ) -> SweepSummary:
     """Run the sweep ``spec`` (a spec file or a :class:`Sweep`) into the Zarr store ``out``.
@@ -172,7 +175,8 @@ def run(
     must be the one that made the store. ``client``: an existing ``distributed.Client``;
     else ``scheduler`` (address of a running scheduler) or a LocalCluster of ``n_workers``
     processes. ``overrides`` are merged into the spec file's tables (see
-    :func:`geardyn.sweep.spec.load_spec`). ``progress`` is called after each case.
+    :func:`geardyn.sweep.spec.load_spec`). ``cases``: run only these case indices (the
+    others stay pending). ``progress`` is called after each case.
     Ctrl-C cancels the remaining cases and raises KeyboardInterrupt; the store keeps every
     case finished so far.
     """
@@ -186,8 +190,14 @@ def run(
             raise InputError(f"--out: directory '{out.parent}' does not exist")
         store.create(out, sweep)
     status = store.statuses(out)
-    todo = [i for i, s in enumerate(status)
-            if s == store.PENDING or (retry_failed and s == STATUS_FAILED)]
+    if cases is not None:
+        bad = [i for i in cases if not 0 <= i < len(sweep.cases)]
+        if bad:
+            raise InputError(f"cases: {bad} out of range (the sweep has cases 0 to "
+                             f"{len(sweep.cases) - 1})")
+    wanted = set(range(len(sweep.cases)) if cases is None else cases)
+    todo = [i for i, s in enumerate(status) if i in wanted
+            and (s == store.PENDING or (retry_failed and s == STATUS_FAILED))]
     prog = SweepProgress(total=len(sweep.cases), skipped=len(sweep.cases) - len(todo),
                          started=time.perf_counter())
     if progress is not None:
@@ -214,6 +224,7 @@ def _run_cases(client: Any, sweep: Sweep, out: Path, todo: list[int], prog: Swee
     futures = [client.submit(run_case, _task(sweep, i, n_state), key=f"geardyn-case-{i}-{token}",
                              pure=False) for i in todo]
     index = {f.key: i for f, i in zip(futures, todo, strict=True)}
+    writer = store.Writer(out, len(sweep.cases))
     try:
         for fut in as_completed(futures):
             i = index[fut.key]
@@ -223,9 +234,8 @@ def _run_cases(client: Any, sweep: Sweep, out: Path, todo: list[int], prog: Swee
                 res = _failed(i, exc)
             with _deferred_sigint():
                 if res["arrays"]:
-                    store.ensure_variables(out, res["arrays"], res.get("kinds", {}),
-                                           len(sweep.cases))
-                store.write_case(out, i, res)
+                    writer.ensure_variables(res["arrays"], res.get("kinds", {}))
+                writer.write_case(i, res)
             fut.release()
             prog.done += 1
             prog.failed += res["status"] == STATUS_FAILED

@@ -10,18 +10,22 @@ Layout (``geardyn.sweep/1``):
 * ``channels.<name>`` (case, ``<name>.sample``) with ``channels.<name>.time`` [s]
   (and ``.angle`` [rad] for encoder channels), NaN-padded;
 * ``state.<var>`` (case, state_time, shaft | mesh);
-* ``indicator`` (case, component, indicator, block), with ``component_kind``;
+* ``indicators`` (case, component, indicator, block), with ``component_kind``;
 * ``verdict`` and ``margin`` (case, component) when the spec asks for verdicts.
 
 Every per-case variable is chunked one case per chunk. The driver alone writes: a case's data
 first, then its ``status`` (the commit mark: a case without status is pending and is run
-again on resume, overwriting the same chunks). zarr's local store writes each chunk file
-atomically (temporary file + rename), so the store stays readable if the driver is killed.
+again on resume, overwriting the same chunks). The store is created aside and renamed into
+place, and zarr's local store writes each chunk file atomically (temporary file + rename), so
+the store stays readable whenever the driver is killed.
 """
 
 from __future__ import annotations
 
 import json
+import os
+import shutil
+import uuid
 import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -98,7 +102,14 @@ def create(path: str | Path, sweep: Sweep) -> None:
         "axes": json.dumps([a.name for a in sweep.axes]),
     }
     enc = {v: {"chunks": (1,)} for v in data}
-    _to_zarr(ds, p, mode="w-", encoding=enc)
+    # written aside and renamed: a store at ``path`` is always complete
+    tmp = p.with_name(f".{p.name}.creating-{uuid.uuid4().hex[:8]}")
+    try:
+        _to_zarr(ds, tmp, mode="w-", encoding=enc)
+        os.rename(tmp, p)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
 
 
 def open_store(path: str | Path) -> xr.Dataset:
@@ -179,56 +190,73 @@ def ensure_variables(path: str | Path, arrays: dict[str, tuple], kinds: dict[str
     _to_zarr(ds, p, mode="a", compute=False, encoding=enc)
 
 
-def _aligned(store: xr.Dataset, values: np.ndarray, dims: list[str], cds: dict[str, Any]
-             ) -> tuple[np.ndarray, list[str]]:
-    """``values`` placed on the store's grid of ``dims`` (labels matched, samples padded with
-    NaN); labels the store lacks are dropped and returned."""
-    target = [store.sizes[d] for d in dims]
-    out = np.full(target, np.nan)
-    dropped: list[str] = []
-    src_idx: list[np.ndarray] = []
-    dst_idx: list[np.ndarray] = []
-    for d, n in zip(dims, np.shape(values), strict=True):
-        if d in cds and d in store.coords and d not in ("state_time", "block"):
-            have = {str(x): k for k, x in enumerate(store[d].values)}
-            lab = [str(x) for x in cds[d]]
-            keep = [k for k, x in enumerate(lab) if x in have]
-            dropped += [f"{d} {x}" for x in lab if x not in have]
-            src_idx.append(np.array(keep, int))
-            dst_idx.append(np.array([have[lab[k]] for k in keep], int))
-        else:
-            m = min(n, store.sizes[d])
-            src_idx.append(np.arange(m))
-            dst_idx.append(np.arange(m))
-    out[np.ix_(*dst_idx)] = np.asarray(values, float)[np.ix_(*src_idx)]
-    return out, dropped
+class Writer:
+    """Writes cases into the store at ``path`` through zarr (one chunk per case and
+    variable); the store's layout (dimension labels and sizes) is read once and again only
+    after :meth:`ensure_variables` adds variables."""
 
+    def __init__(self, path: str | Path, n_cases: int) -> None:
+        self.path = Path(path)
+        self.n_cases = n_cases
+        self._refresh()
 
-def write_case(path: str | Path, index: int, result: dict[str, Any]) -> None:
-    """Write one case's arrays, then its status and message (the commit mark)."""
-    p = Path(path)
-    store = _open(p)
-    region = {"case": slice(index, index + 1)}
-    data = {}
-    dropped: list[str] = []
-    for name, (values, attrs, dims, cds) in result["arrays"].items():
-        if name not in store.data_vars:
-            dropped.append(name)
-            continue
-        arr, d = _aligned(store, values, list(dims), cds)
-        dropped += d
-        data[name] = (("case", *dims), arr[None, ...], attrs)
-    if data:
-        _to_zarr(xr.Dataset(data), p, region=region)
-    message = str(result["message"])
-    if dropped:
-        message += ("; " if message else "") + "not stored (not in the store's layout): " + \
-            ", ".join(sorted(set(dropped))[:10])
-    mark = xr.Dataset({"wall_time_s": ("case", [float(result.get("wall_time_s", np.nan))]),
-                       "message": ("case", _strings([message]))})
-    _to_zarr(mark, p, region=region)
-    _to_zarr(xr.Dataset({"status": ("case", _strings([str(result["status"])]))}), p,
-             region=region)
+    def _refresh(self) -> None:
+        import zarr
+
+        ds = _open(self.path)
+        self.names = set(ds.data_vars)
+        self.sizes = dict(ds.sizes)
+        self.labels = {d: {str(x): k for k, x in enumerate(ds[d].values)}
+                       for d in ("component", "indicator", "shaft", "mesh") if d in ds.coords}
+        self.group = zarr.open_group(str(self.path), mode="r+")
+
+    def ensure_variables(self, arrays: dict[str, tuple], kinds: dict[str, str]) -> None:
+        """Add the result's variables the store lacks (see :func:`ensure_variables`)."""
+        if set(arrays) - self.names:
+            ensure_variables(self.path, arrays, kinds, self.n_cases)
+            self._refresh()
+
+    def _aligned(self, values: np.ndarray, dims: list[str], cds: dict[str, Any]
+                 ) -> tuple[np.ndarray, list[str]]:
+        """``values`` on the store's grid of ``dims`` (labels matched, samples NaN-padded);
+        labels the store lacks are dropped and returned."""
+        out = np.full([self.sizes[d] for d in dims], np.nan)
+        dropped: list[str] = []
+        src: list[np.ndarray] = []
+        dst: list[np.ndarray] = []
+        for d, n in zip(dims, np.shape(values), strict=True):
+            if d in cds and d in self.labels:
+                have = self.labels[d]
+                lab = [str(x) for x in cds[d]]
+                keep = [k for k, x in enumerate(lab) if x in have]
+                dropped += [f"{d} {x}" for x in lab if x not in have]
+                src.append(np.array(keep, int))
+                dst.append(np.array([have[lab[k]] for k in keep], int))
+            else:
+                m = min(n, self.sizes[d])
+                src.append(np.arange(m))
+                dst.append(np.arange(m))
+        out[np.ix_(*dst)] = np.asarray(values, float)[np.ix_(*src)]
+        return out, dropped
+
+    def write_case(self, index: int, result: dict[str, Any]) -> None:
+        """Write one case's arrays, then its message and wall time, then its status (the
+        commit mark)."""
+        dropped: list[str] = []
+        for name, (values, _attrs, dims, cds) in result["arrays"].items():
+            if name not in self.names:
+                dropped.append(name)
+                continue
+            arr, d = self._aligned(values, list(dims), cds)
+            dropped += d
+            self.group[name][index] = arr
+        message = str(result["message"])
+        if dropped:
+            message += ("; " if message else "") + "not stored (not in the store's layout): " \
+                + ", ".join(sorted(set(dropped))[:10])
+        self.group["message"][index] = message
+        self.group["wall_time_s"][index] = float(result.get("wall_time_s", np.nan))
+        self.group["status"][index] = str(result["status"])
 
 
 def check_same_sweep(path: str | Path, sweep: Sweep) -> xr.Dataset:

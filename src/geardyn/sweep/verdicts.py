@@ -44,8 +44,8 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput) -> xr.Dataset:
     comps = [str(x) for x in ds["component"].values]
     kinds = [str(x) for x in ds["component_kind"].values]
     inds = [str(x) for x in ds["indicator"].values]
-    channel = str(ds["indicator"].attrs.get("channel", ""))
-    ind = np.asarray(ds["indicator"].values, float)
+    channel = str(ds["indicators"].attrs.get("channel", ""))
+    ind = np.asarray(ds["indicators"].values, float)
     status = np.asarray(ds["status"].values, dtype=object)
     ok = status == "ok"
     healthy = ok.copy()
@@ -89,7 +89,7 @@ def write_verdicts(path: str | Path, opts: VerdictOutput) -> None:
     from geardyn.sweep.store import _to_zarr, open_dataset
 
     ds = open_dataset(path)
-    if "indicator" not in ds:
+    if "indicators" not in ds:
         return
     v = verdicts(ds, opts)
     v.attrs = {**ds.attrs, **v.attrs}

@@ -1,0 +1,236 @@
+"""Sweeps on dask.distributed: 1 vs 2 workers, resume after Ctrl-C to the driver and after
+kill -9 of a worker, verdicts, the CLI. A tiny case: the seed 004 gearbox for 2 s."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from geardyn.sweep import open_dataset, run
+from geardyn.sweep.runner import _client
+from geardyn.sweep.store import statuses
+
+ROOT = Path(__file__).resolve().parents[2]
+BASE = ROOT / "examples" / "seed004_diagnose_sun_crack.toml"
+CRACK = "planetary_dynamics.stages[0].faults[0].crack_fraction"
+
+SPEC = f"""
+[sweep]
+base = "{BASE}"
+seed = 11
+replicates = 3
+
+[run]
+t_end_s = 2.0
+
+[[axes]]
+name = "crack_fraction"
+path = "{CRACK}"
+values = [0.0, 0.3]
+
+[outputs.channels]
+names = ["ring_acc"]
+every = 4
+samples = 600
+
+[outputs.states]
+variables = ["speed", "mesh_force"]
+step_s = 0.1
+
+[outputs.indicators]
+skip_s = 0.0
+blocks = 1
+
+[outputs.verdicts]
+healthy = {{ crack_fraction = 0.0 }}
+"""
+
+
+@pytest.fixture(scope="module")
+def spec_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    p = tmp_path_factory.mktemp("spec") / "tiny.toml"
+    p.write_text(SPEC)
+    return p
+
+
+@pytest.fixture(scope="module")
+def reference(spec_path: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The sweep on ONE worker (in-process, single thread)."""
+    from distributed import Client
+
+    out = tmp_path_factory.mktemp("ref") / "ref.zarr"
+    with Client(processes=False, n_workers=1, threads_per_worker=1,
+                dashboard_address=":0") as client:
+        summary = run(spec_path, out, client=client)
+    assert summary.run == 6 and summary.skipped == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def cluster():  # noqa: ANN201 - distributed.Client
+    """A LocalCluster of 2 worker processes with nannies (as `geardyn sweep` makes)."""
+    with _client(None, 2) as client:
+        client.wait_for_workers(2, timeout=120)
+        yield client
+
+
+def assert_same_store(a: Path, b: Path) -> None:
+    """Same variables, coordinates, case order and values (NaN = NaN); wall times differ."""
+    x, y = open_dataset(a).load(), open_dataset(b).load()
+    assert sorted(x.variables) == sorted(y.variables)
+    assert x.attrs == y.attrs
+    np.testing.assert_array_equal(x["case"].values, np.arange(x.sizes["case"]))
+    for name in x.variables:
+        if name == "wall_time_s":
+            continue
+        assert x[name].dims == y[name].dims, name
+        np.testing.assert_array_equal(x[name].values, y[name].values, err_msg=name)
+
+
+def test_reference_store(reference: Path) -> None:
+    ds = open_dataset(reference).load()
+    assert list(ds["status"].values) == ["ok"] * 6
+    assert list(ds["crack_fraction"].values) == [0.0] * 3 + [0.3] * 3
+    assert ds["channels.ring_acc"].shape == (6, 600)
+    assert ds["state.speed"].dims == ("case", "state_time", "shaft")
+    assert ds["state_time"].values[-1] == pytest.approx(2.0)
+    assert np.isfinite(ds["indicators"].sel(component="sun")).all()
+    assert ds.attrs["geardyn_version"] and len(ds.attrs["base_config_sha256"]) == 64
+    # replicates differ by their seed only (sensor noise), not by their physics
+    acc = ds["channels.ring_acc"].values
+    assert not np.array_equal(acc[0], acc[1])
+    speed = ds["state.speed"].values
+    np.testing.assert_array_equal(speed[0], speed[1])
+
+
+def test_case_is_reproducible_alone(reference: Path, spec_path: Path) -> None:
+    """Case 4 re-run directly from its seed and config gives the stored channel."""
+    from geardyn.config.loader import parse_config
+    from geardyn.results import channel
+    from geardyn.run import run_simulation
+    from geardyn.sweep import load_spec
+    from geardyn.sweep.case import _decimated
+
+    ds = open_dataset(reference)
+    sw = load_spec(spec_path)
+    case = sw.cases[4]
+    assert int(ds["seed"][4]) == case.seed
+    res = run_simulation(parse_config(sw.case_config(case)), seed=case.seed, t_end_s=2.0)
+    ch = channel(res, "ring_acc")
+    values, _ = _decimated(ch.values, ch.time, 4, ch.sampling)
+    np.testing.assert_array_equal(ds["channels.ring_acc"].values[4], values[-600:])
+
+
+def test_two_workers_identical_to_one(reference: Path, spec_path: Path, cluster,  # noqa: ANN001
+                                      tmp_path: Path) -> None:
+    out = tmp_path / "two.zarr"
+    run(spec_path, out, client=cluster)
+    assert_same_store(reference, out)
+
+
+def test_worker_killed_mid_case_is_retried(reference: Path, spec_path: Path,
+                                           cluster, tmp_path: Path) -> None:  # noqa: ANN001
+    out = tmp_path / "killed.zarr"
+    killed: list[int] = []
+
+    def kill_a_busy_worker(p) -> None:  # noqa: ANN001
+        if p.done < 1 or killed:
+            return
+        busy = [w for w, keys in cluster.processing().items() if keys]
+        if busy:
+            pid = cluster.run(os.getpid, workers=busy[:1])[busy[0]]
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+
+    run(spec_path, out, client=cluster, progress=kill_a_busy_worker)
+    assert killed, "no worker was busy after the first case: nothing was killed"
+    assert_same_store(reference, out)
+    cluster.wait_for_workers(2, timeout=120)  # the nanny restarted it
+
+
+def test_sigint_to_driver_then_resume(reference: Path, spec_path: Path, cluster,  # noqa: ANN001
+                                      tmp_path: Path) -> None:
+    out = tmp_path / "interrupted.zarr"
+    exe = Path(sys.executable).parent / "geardyn"
+    cmd = [str(exe), "sweep", str(spec_path), "--out", str(out), "--scheduler",
+           cluster.scheduler.address]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < 120 and proc.poll() is None:
+        if out.exists() and "ok" in set(statuses(out)):
+            break
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)  # as Ctrl-C in a terminal: the process group
+    out_text, err = proc.communicate(timeout=120)
+    done = list(statuses(out))  # readable after the interrupt
+    assert proc.returncode in (130, 0), err
+    if proc.returncode == 130:
+        assert "interrupted" in err and "Traceback" not in err, err
+        assert "run the same command again" in out_text
+    assert "ok" in done
+    summary = run(spec_path, out, client=cluster)  # the same command again: resumes
+    assert summary.skipped == done.count("ok") and summary.run == 6 - summary.skipped
+    assert_same_store(reference, out)
+
+
+def test_verdicts_against_hand_thresholds(reference: Path) -> None:
+    """Margin of a case = max over indicators of median/threshold, threshold = μ + 3σ with
+    σ = max(c_n s, 0.05|μ|), c_n = t_(n−1)(Φ(3))√(1 + 1/n)/3 (docs/diagnosis.md), from the
+    OTHER healthy cases (leave-one-out); computed here with numpy/scipy."""
+    from scipy.stats import norm
+    from scipy.stats import t as student
+
+    ds = open_dataset(reference).load()
+    v = ds["indicators"].sel(component="sun").isel(block=0).values  # (case, indicator)
+    healthy = np.flatnonzero(ds["crack_fraction"].values == 0.0)
+    for i in range(6):
+        base = v[[j for j in healthy if j != i]]
+        n = base.shape[0]
+        mu, s = base.mean(0), base.std(0, ddof=1)
+        cn = student.ppf(norm.cdf(3.0), n - 1) * np.sqrt(1 + 1 / n) / 3.0
+        th = mu + 3.0 * np.maximum(cn * s, 0.05 * np.abs(mu))
+        margin = float(np.max(v[i] / th))
+        assert float(ds["margin"].sel(component="sun")[i]) == pytest.approx(margin, rel=1e-12)
+        state = "alarm" if margin > 1 else "healthy"
+        assert ds["verdict"].sel(component="sun").values[i] == state
+
+
+def test_cli_bad_spec_and_check(tmp_path: Path, spec_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    r = CliRunner().invoke(app, ["sweep", str(spec_path), "--out", str(tmp_path / "x.zarr"),
+                                 "--check"])
+    assert r.exit_code == 0 and "6 cases" in r.output and not (tmp_path / "x.zarr").exists()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SPEC.replace("values = [0.0, 0.3]", "values = [0.0, 1.3]"))
+    r = CliRunner().invoke(app, ["sweep", str(bad), "--out", str(tmp_path / "y.zarr")])
+    assert r.exit_code == 2 and "axis 'crack_fraction' = 1.3" in r.output
+    assert not (tmp_path / "y.zarr").exists()
+
+
+def test_store_of_another_spec_refused(reference: Path, tmp_path: Path) -> None:
+    from geardyn.errors import InputError
+
+    other = tmp_path / "other.toml"
+    other.write_text(SPEC.replace("seed = 11", "seed = 12"))
+    with pytest.raises(InputError, match="holds another sweep"):
+        run(other, reference)
+
+
+def test_open_dataset_refuses_other_stores(tmp_path: Path) -> None:
+    from geardyn.errors import InputError
+
+    xr.Dataset({"x": ("t", [1.0])}).to_zarr(tmp_path / "plain.zarr", consolidated=False)
+    with pytest.raises(InputError, match="not a geardyn sweep store"):
+        open_dataset(tmp_path / "plain.zarr")
