@@ -243,3 +243,27 @@ def test_dynamics_section_names_unknown_items():
     text = str(exc.value)
     assert "dynamics.meshes[1].pair: unknown gear pair or stage 'nope'" in text
     assert "dynamics.shafts[0] 's'.b: unknown body 'ghost'" in text
+
+
+def test_mesh_stiffness_from_the_gear_geometry_pe_table():
+    """model = 'gear_geometry': the mesh uses the potential-energy table of the pair's
+    [[gear_geometry]] entry (geardyn.gears.pe_stiffness, validated in tests/gears), one mesh
+    cycle, and its mean; the rigid-body mode still follows the kinematics."""
+    from geardyn.config.gears import pair_model
+    from geardyn.gears.pe_stiffness import mesh_stiffness
+
+    d = _pair("parallel", 23, 67)
+    d["dynamics"]["meshes"] = [{"pair": "p", "model": "gear_geometry"}]
+    # the entry's module (3 mm) sizes the pair, not the section's 4 mm
+    d["gear_geometry"] = [{"pair": "p", "normal_module_m": 0.003, "face_width_m": 0.03}]
+    cfg = parse_config(d)
+    model = model_from_config(cfg)
+    table = mesh_stiffness(pair_model(cfg, "p").geometry, n_per_cycle=64).total
+    mesh = model.meshes[0]
+    assert mesh.k == pytest.approx(table, rel=1e-12)
+    assert mesh.k_mean == pytest.approx(float(np.mean(table)), rel=1e-12)
+    assert 1e8 < mesh.k_mean < 1e10  # a 30 mm wide steel spur pair (c_γ·b ≈ 6e8 N/m)
+    assert mesh.base_radius_a == pytest.approx(0.003 * 23 * math.cos(math.radians(20)) / 2)
+    null = rigid_modes(model)
+    assert null.shape[1] == 1
+    assert null[0, 0] / null[1, 0] == pytest.approx(-67 / 23, rel=1e-12)

@@ -151,8 +151,11 @@ def velocity_map(tree: list[tuple[str, str]], phi: Mapping[str, float], graph: M
     return p
 
 
-def _pair_size(mesh: GearMesh, spec: Dynamics) -> PairSize:
-    """Settings of a mesh: exact pair name, then '<stage>.sun|ring', then the stage name."""
+def _pair_size(mesh: GearMesh, spec: Dynamics,
+               geometry: Mapping[str, tuple[float, float, float]] | None = None) -> PairSize:
+    """Settings of a mesh: exact pair name, then '<stage>.sun|ring', then the stage name; the
+    module, pressure angle and face width of a [[gear_geometry]] entry (``geometry``: mesh name
+    → (m, α deg, b)) come before the section defaults."""
     keys = [mesh.name]
     if mesh.stage and mesh.name.startswith(f"{mesh.stage}."):
         role = mesh.name[len(mesh.stage) + 1:].split("-")[0]
@@ -161,9 +164,10 @@ def _pair_size(mesh: GearMesh, spec: Dynamics) -> PairSize:
         keys.append(mesh.stage)
     by = {m.pair: m for m in spec.meshes}
     s = next((by[k] for k in keys if k in by), MeshDynamics(pair=mesh.name))
-    module = s.module_m or spec.module_m
-    alpha = math.radians(s.pressure_angle_deg or spec.pressure_angle_deg)
-    width = s.face_width_m or spec.face_width_m or 10 * module
+    g_mod, g_alpha, g_width = (geometry or {}).get(mesh.name, (None, None, None))
+    module = s.module_m or g_mod or spec.module_m
+    alpha = math.radians(s.pressure_angle_deg or g_alpha or spec.pressure_angle_deg)
+    width = s.face_width_m or g_width or spec.face_width_m or 10 * module
     return PairSize(module, alpha, width, s)
 
 
@@ -290,12 +294,14 @@ def _coaxial_groups(graph: MechanismGraph) -> dict[str, set[str]]:
 
 
 def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | None = None,
-                pe_tables: Mapping[str, np.ndarray] | None = None) -> CoreModel:
+                pe_tables: Mapping[str, np.ndarray] | None = None,
+                geometry: Mapping[str, tuple[float, float, float]] | None = None) -> CoreModel:
     """The torsional model of ``graph`` with the sizes and laws of ``spec`` (module docstring).
 
     ``inputs``: links whose unit speeds define the physical motions (default: see
     :func:`physical_basis`); ``pe_tables``: mesh name → stiffness over one mesh cycle (N/m) for
-    meshes with ``model = "gear_geometry"``.
+    meshes with ``model = "gear_geometry"``; ``geometry``: mesh name → (module m, pressure
+    angle deg, face width m) of its [[gear_geometry]] entry.
     """
     kin = analyze_graph(graph)
     omega0 = physical_basis(kin, inputs)
@@ -312,7 +318,7 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
             1.0, float(np.abs(omega0).max())):
         raise KinematicsError(f"mechanism '{graph.name}': the kinematic motions are not "
                               "rotations about the turning-pair axes (check pitch angles)")
-    sizes = {m.name: _pair_size(m, spec) for m in graph.meshes}
+    sizes = {m.name: _pair_size(m, spec, geometry) for m in graph.meshes}
     blanks, orbit = _inertias(graph, spec, sizes, tree)
 
     # mass matrix (module docstring)
@@ -406,6 +412,16 @@ def model_from_config(cfg: object, inputs: Sequence[str] | None = None) -> CoreM
         raise ConfigError("the config has no [dynamics] section (see docs/dynamics.md)")
     graph = cfg.graph()  # type: ignore[attr-defined]
     pe: dict[str, np.ndarray] = {}
+    geometry: dict[str, tuple[float, float, float]] = {}
+    entries = getattr(cfg, "gear_geometry", None) or []
+    if entries:
+        from geardyn.config.gears import _matches
+
+        for m in graph.meshes:
+            e = next((e for e in entries if _matches(e.pair, m.name, m.stage)), None)
+            if e is not None:
+                geometry[m.name] = (e.normal_module_m, e.normal_pressure_angle_deg,
+                                    e.face_width_m)
     wanted = {m.name for m in graph.meshes
               if _pair_size(m, spec).settings.model == "gear_geometry"}
     if wanted:
@@ -417,4 +433,4 @@ def model_from_config(cfg: object, inputs: Sequence[str] | None = None) -> CoreM
                                       n_per_cycle=SAMPLES_PER_CYCLE).total
     if inputs is None:
         inputs = list(getattr(cfg, "input_speeds_rpm", {}) or {})
-    return build_model(graph, spec, inputs, pe)
+    return build_model(graph, spec, inputs, pe, geometry)
