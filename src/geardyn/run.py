@@ -121,8 +121,9 @@ def _suspect(ds: xr.Dataset, problem: str) -> None:
     if not problem or ds.attrs.get("status") not in ("ok", "suspect"):
         return
     ds.attrs["status"] = "suspect"
-    ds.attrs["diagnosis"] = "; ".join(x for x in (str(ds.attrs.get("diagnosis", "")),
-                                                  problem + "; the computed part is kept") if x)
+    kept = "; the computed part is kept"
+    ds.attrs["diagnosis"] = "; ".join(x for x in (str(ds.attrs.get("diagnosis", ""))
+                                                  .removesuffix(kept), problem + kept) if x)
 
 
 def _planetary_speeds(cfg, p) -> list[np.ndarray]:  # noqa: ANN001

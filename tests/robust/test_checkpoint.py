@@ -183,3 +183,24 @@ def test_cli_output_rules_and_checkpoint_cleanup(tmp_path, examples_dir):
     assert r.exit_code == 2 and "another config or other options" in r.output
     r = run(app, ["simulate", cfg, "--out", str(out), "--force", "--checkpoint-every", "-1"])
     assert r.exit_code == 2 and "--checkpoint-every" in r.output
+
+
+def test_long_run_estimated_before_it_goes_on(lin_parker_prep):
+    """Issue 13: t_end_s = 1e4 ran for hours without a word. After two short chunks (the
+    first loads the compiled code) the run announces steps × measured cost per step; here the
+    run is stopped right after the estimate. 5e8 steps at 1-1000 µs each: 500 s to 5e5 s."""
+    p = lin_parker_prep
+    est: list[float] = []
+
+    def progress(_f: float) -> None:
+        if est:
+            ctl.request_stop()
+
+    ctl = RunControl(estimate=est.append, progress=progress)
+    res = newmark(p.system, p.q0, p.v0, 1e4, 2e-5, save_every=10**6, control=ctl)
+    assert res.status == "interrupted" and len(est) == 1
+    assert 500.0 < est[0] < 5e5
+    # records of 5e8 samples (over 100 GB) are refused before the run
+    with pytest.raises(InputError, match=r"500,000,001 samples × \d+ values .* raise "
+                       r"save_every \(1\)"):
+        newmark(p.system, p.q0, p.v0, 1e4, 2e-5)

@@ -15,9 +15,12 @@ passed to ``estimate`` (seconds), so that a long run announces its duration befo
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+
+from geardyn.errors import InputError
 
 #: Steps of the first (warm-up) chunk.
 WARMUP_STEPS = 400
@@ -84,3 +87,18 @@ class RunControl:
                                         - self._last_checkpoint >= self.checkpoint_every_s)):
             self.checkpoint(state())
             self._last_checkpoint = time.monotonic()
+
+
+def check_record_size(rows: int, columns: int, advice: str) -> None:
+    """Refuse, before the run, records of ``rows`` × ``columns`` float64 larger than a quarter
+    of the physical memory (building the result copies them a few times): InputError with
+    ``advice`` (which option thins the records)."""
+    need = 8.0 * rows * columns
+    try:
+        mem = float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return
+    if need > 0.25 * mem:
+        raise InputError(f"the run would record {rows:,} samples × {columns} values = "
+                         f"{need / 1e9:.3g} GB, more than a quarter of the memory "
+                         f"({mem / 1e9:.3g} GB): {advice}")

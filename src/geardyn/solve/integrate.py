@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from geardyn.solve.control import RunControl
+from geardyn.solve.control import RunControl, check_record_size
 
 # ---------------------------------------------------------------------------------------------
 # data containers (structure of arrays)
@@ -673,6 +673,8 @@ def newmark(
     save_every = max(1, int(save_every))
     n, ns = sys.n, sys.springs.a.shape[0]
     nsave = nsteps // save_every + 1
+    check_record_size(nsave, 2 * n + 2 * ns + 1, f"raise save_every ({save_every}) or shorten "
+                      "the run")
     out = {"Q": np.zeros((nsave, n)), "V": np.zeros((nsave, n)), "KS": np.zeros((nsave, ns)),
            "DS": np.zeros((nsave, ns)), "TS": np.zeros(nsave)}
     st = {"q": np.asarray(q0, float).copy(), "v": np.asarray(v0, float).copy(),

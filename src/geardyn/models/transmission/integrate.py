@@ -24,7 +24,7 @@ from numba import njit
 
 from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
-from geardyn.solve.control import RunControl
+from geardyn.solve.control import RunControl, check_record_size
 
 # channels of the energy accumulator
 E_IN, E_OUT, E_VISC, E_ROLL, E_FRIC, E_SQZ, E_MODAL = range(7)
@@ -174,6 +174,8 @@ def run_loop(
     nm = margs[0].size
     nd = rec_dofs.size
     nrec = n_steps // rec_every + 1
+    check_record_size(nrec, 2 + 2 * nd + 3 * nb + nm, "lower transmission.simulation."
+                      "record_rate_hz or the revolutions")
     rec = np.zeros((nrec, 2 + 2 * nd + 3 * nb + nm))
     st = {"q": np.array(q, float), "v": np.array(v, float), "a": np.zeros(n),
           "fext": np.zeros(n), "diss": np.zeros(5), "bl": np.zeros((nb, 3)), "mf": np.zeros(nm),
