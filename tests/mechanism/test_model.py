@@ -267,3 +267,101 @@ def test_mesh_stiffness_from_the_gear_geometry_pe_table():
     null = rigid_modes(model)
     assert null.shape[1] == 1
     assert null[0, 0] / null[1, 0] == pytest.approx(-67 / 23, rel=1e-12)
+
+
+MS, MC, MR = 0.4, 5.43, 2.35  # kg (Lin & Parker style stage of examples/planetary_lin_parker)
+KB, KPB, KRT = 1e8, 2e8, 7.462e6
+
+
+def _lateral_config(ring_free: bool) -> dict:
+    d = _stage_config(ring_free, KRT)
+    dyn = d["dynamics"]
+    dyn["lateral"] = True
+    mass = {"sun": MS, "carrier": MC, "ring": MR}
+    for lk in dyn["links"]:
+        lk["bearing_n_per_m"] = KPB if ".planet" in lk["link"] else KB
+        if lk["link"] in mass:
+            lk["mass_kg"] = mass[lk["link"]]
+    return d
+
+
+@pytest.mark.parametrize("ring_free", [False, True])
+def test_lateral_general_path_equals_the_coupled_lin_parker_model(ring_free):
+    """With lateral DOFs, a [[planetary]] stage through the general path gives the matrices
+    and frequencies of today's coupled Lin & Parker assembly (reduction 'none': x, y, u of
+    sun/ring/carrier, ζ, η, u of the planets; seed 003 eqs 3.2-3.26), to 1e-9."""
+    model = model_from_config(parse_config(_lateral_config(ring_free)))
+    rs, rp, rr, rc = _radii()
+
+    def member(j: float, r: float, m: float, kb: float, kt: float = 0.0) -> dict:
+        return dict(mass=m, inertia=j, radius=r, bearing=kb, torsional=kt)
+
+    psi = [2 * math.pi * i / NP for i in range(NP)]
+    spec = StageSpec("st", NP, psi, sun=member(JS, rs, MS, KB),
+                     ring=member(JR, rr, MR, KB, KRT if ring_free else 0.0),
+                     carrier=member(JC, rc, MC, KB), planet=member(JP, rp, MP, 0.0),
+                     alpha_s=ALPHA, alpha_r=ALPHA, k_sun_mesh=KS, k_ring_mesh=KR,
+                     planet_bearing=KPB, z_sun=ZS, z_ring=ZR, z_planet=ZP, prefix=False)
+    lp = assemble([spec], reduction="none")
+    m_lp, k_lp, names = lp.mass_matrix(), lp.stiffness_matrix(), lp.names
+    if not ring_free:
+        keep = [i for i, nm in enumerate(names) if not nm.startswith("ring.")]
+        m_lp, k_lp, names = m_lp[np.ix_(keep, keep)], k_lp[np.ix_(keep, keep)], \
+            [names[i] for i in keep]
+    col = {nm: i for i, nm in enumerate(model.dof_names)}
+    radius = {"sun": rs, "carrier": rc, "ring": rr}
+    t = np.zeros((len(names), model.n))
+    for i, nm in enumerate(names):
+        body, dof = nm.split(".")
+        if body in radius:
+            t[i, col[f"{body}.{'theta' if dof == 'u' else dof}"]] = radius[body] if dof == "u" \
+                else 1.0
+            continue
+        p = int(body[len("planet"):]) - 1
+        c, s = math.cos(psi[p]), math.sin(psi[p])
+        if dof == "u":  # absolute planet rotation
+            t[i, col[f"st.{body}.theta"]] = rp
+            t[i, col["carrier.theta"]] = rp
+        elif dof == "zeta":
+            t[i, col[f"st.{body}.zeta"]] = 1.0
+            t[i, col["carrier.x"]], t[i, col["carrier.y"]] = c, s
+        else:  # eta: pin displacement + carrier rotation r_c θ_c
+            t[i, col[f"st.{body}.eta"]] = 1.0
+            t[i, col["carrier.x"]], t[i, col["carrier.y"]] = -s, c
+            t[i, col["carrier.theta"]] = rc
+    kk = model.stiffness_matrix()
+    assert np.abs(t.T @ m_lp @ t - model.M).max() < 1e-9 * np.abs(model.M).max()
+    assert np.abs(t.T @ k_lp @ t - kk).max() < 1e-9 * np.abs(kk).max()
+    w2_gen = sla.eigh(kk, model.M, eigvals_only=True)
+    w2_lp = sla.eigh(k_lp, m_lp, eigvals_only=True)
+    rigid = w2_lp < 1e-9 * w2_lp.max()
+    assert rigid.sum() == 1
+    assert np.abs(w2_gen[rigid]).max() < 1e-9 * w2_lp.max()
+    f_gen, f_lp = (np.sqrt(w[~rigid]) / (2 * np.pi) for w in (w2_gen, w2_lp))
+    assert f_gen == pytest.approx(f_lp, rel=1e-9)
+
+
+@pytest.mark.parametrize("name", ["three_stage_gearbox", "alouette3_mgb_dynamics",
+                                  "car_differential_dynamics"])
+def test_lateral_model_keeps_the_kinematic_rigid_modes(examples_dir, name):
+    """Lateral DOFs held by bearings add no rigid-body mode (principal angles < 1e-8)."""
+    d = _mechanism_only(examples_dir, name)
+    cfg0 = parse_config(d)
+    d["dynamics"]["lateral"] = True
+    given = {lk["link"] for lk in d["dynamics"].get("links", [])}
+    d["dynamics"].setdefault("links", [])
+    for lk in d["dynamics"]["links"]:
+        lk["bearing_n_per_m"] = 1e9
+    d["dynamics"]["links"] += [{"link": x, "bearing_n_per_m": 1e9}
+                               for x in cfg0.graph().links
+                               if x not in given and x != cfg0.frame]
+    cfg = parse_config(d)
+    model = model_from_config(cfg)
+    assert any(nm.endswith((".x", ".zeta")) for nm in model.dof_names)
+    kin = analyze_graph(cfg.graph())
+    null = rigid_modes(model)
+    held = {b for sh in cfg.dynamics.shafts for b in (sh.a, sh.b)}
+    free = [r.name for r in cfg.dynamics.rotors if r.name not in held]
+    assert null.shape[1] == kin.dof + len(free)
+    angles = sla.subspace_angles(sla.orth(model.link_velocity @ null), kin.nullspace)
+    assert angles.max() < 1e-8

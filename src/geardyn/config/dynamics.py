@@ -42,6 +42,9 @@ class LinkDynamics(_M):
     orbit_radius_m: float | None = Field(
         None, ge=0, description="distance of the link's centre from its carrier's axis (m); "
         "default from the pitch radii of its first mesh with a gear coaxial to the carrier")
+    bearing_n_per_m: float = Field(
+        0.0, ge=0, description="lateral model: bearing stiffness (N/m) in x and y to the frame "
+        "(a link turning in the frame), or radial and tangential on its pin (a planet)")
 
 
 class MeshDynamics(_M):
@@ -67,6 +70,10 @@ class MeshDynamics(_M):
                                         "(c = 2ζ√(k m_eq))")
     transmission_error_m: float = Field(0.0, ge=0, description="amplitude of a sinusoidal "
                                         "transmission error at the mesh frequency (m)")
+    position_angle_deg: float | None = Field(
+        None, description="lateral model: direction (deg) from gear a's centre to gear b's "
+        "(from the internal gear's centre for an internal pair); planetary meshes take the "
+        "planet angle; default 0")
 
 
 class RotorDynamics(_M):
@@ -127,6 +134,9 @@ class Dynamics(_M):
     density_kg_m3: float = Field(7850.0, gt=0, description="density of the gear blanks")
     mesh_damping_ratio: float = Field(0.05, ge=0, lt=1, description="default mesh damping ratio "
                                       "(0.03-0.17 in the literature; Kahraman & Singh 1991)")
+    lateral: bool = Field(
+        False, description="add the lateral DOFs of Lin & Parker (1999): x, y of every link "
+        "turning in the frame, radial/tangential ζ, η of every planet on its carrier")
     links: list[LinkDynamics] = Field(default_factory=list)
     meshes: list[MeshDynamics] = Field(default_factory=list)
     rotors: list[RotorDynamics] = Field(default_factory=list)

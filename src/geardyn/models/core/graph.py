@@ -42,6 +42,13 @@ from geardyn.gears import planet_mesh_phases, square_wave
 from geardyn.kinematics.graph import GearMesh, MechanismGraph
 from geardyn.kinematics.willis import KinematicAnalysis, analyze_graph
 from geardyn.models.core.blanks import Blank, contact_ratio, disc_blank, wheel_blank
+from geardyn.models.core.lateral import (
+    LateralBody,
+    bearing_springs,
+    lateral_layout,
+    lateral_mass,
+    mesh_translation,
+)
 from geardyn.models.core.model import Body, CoreModel, MeshElement, Spring
 
 #: ISO 6336-1 mean mesh stiffness per unit face width, c_γα ≈ 20 N/(mm·µm) = 2e10 N/m².
@@ -309,7 +316,9 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
     phi = axis_directions(tree, omega0, graph)
     n_links = len(tree)
     rotors = list(spec.rotors)
-    n = n_links + len(rotors)
+    layout = (lateral_layout(tree, phi, graph, n_links + len(rotors)) if spec.lateral
+              else {})
+    n = n_links + len(rotors) + 2 * len(layout)
     pmap = velocity_map(tree, phi, graph, n)
     idx = {x: i for i, x in enumerate(graph.links)}
     qdot = np.array([[(np.exp(-1j * phi[x]) * (omega0[idx[x], c] - omega0[idx[p], c])).real
@@ -328,7 +337,7 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
         rel = np.exp(-1j * phi[link]) * pmap[idx[link]]
         b = blanks[link]
         mm += b.inertia * np.outer(rel.real, rel.real) + b.diametral * np.outer(rel.imag, rel.imag)
-        if p != graph.frame and orbit.get(link, 0.0) > 0:
+        if p != graph.frame and orbit.get(link, 0.0) > 0 and link not in layout:
             hp = (np.exp(-1j * phi[p]) * pmap[idx[p]]).real
             mm += b.mass * orbit[link] ** 2 * np.outer(hp, hp)
         bodies[link] = Body(link, "link", rel.real.copy(), b.inertia,
@@ -340,22 +349,31 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
         h[k] = 1.0
         bodies[r.name] = Body(r.name, "rotor", h, r.inertia_kgm2, k)
 
-    meshes = _meshes(graph, kin, pmap, phi, sizes, blanks, spec.mesh_damping_ratio,
-                     pe_tables or {})
     springs = []
+    if layout:
+        rot = {x: b.rotation for x, b in bodies.items()}
+        mm += lateral_mass(layout, {x: blanks[x].mass for x in layout}, orbit, rot, n)
+        given = {lk.link: lk.bearing_n_per_m for lk in spec.links}
+        springs += bearing_springs(layout, given, n)
+    meshes = _meshes(graph, kin, pmap, phi, sizes, blanks, spec.mesh_damping_ratio,
+                     pe_tables or {}, layout)
     for sh in spec.shafts:
         ha = bodies[sh.a].rotation
         hb = np.zeros(n) if sh.b == graph.frame else bodies[sh.b].rotation
         springs.append(Spring(sh.name, "support" if sh.b == graph.frame else "shaft",
                               sh.torsional_nm_per_rad, ha - hb, sh.damping_nms_per_rad))
     names = [f"{x}.theta" for x, _ in tree] + [f"{r.name}.theta" for r in rotors]
+    for b in layout.values():
+        names += [f"{b.link}.x", f"{b.link}.y"] if b.kind == "fixed" else [
+            f"{b.link}.zeta", f"{b.link}.eta"]
     return CoreModel(names, mm, springs, meshes, bodies, list(graph.links), pmap, graph.frame)
 
 
 def _meshes(graph: MechanismGraph, kin: KinematicAnalysis, pmap: np.ndarray,
             phi: Mapping[str, float], sizes: Mapping[str, PairSize],
             blanks: Mapping[str, Blank], zeta_default: float,
-            pe: Mapping[str, np.ndarray]) -> list[MeshElement]:
+            pe: Mapping[str, np.ndarray], layout: Mapping[str, LateralBody]
+            ) -> list[MeshElement]:
     idx = {x: i for i, x in enumerate(graph.links)}
     phases = _planet_phases(graph)
     out = []
@@ -363,7 +381,12 @@ def _meshes(graph: MechanismGraph, kin: KinematicAnalysis, pmap: np.ndarray,
         sz = sizes[m.name]
         where = f"gear pair '{m.name}'"
         real, psi = _real_row(kin.M[row] @ pmap, where)
+        # orient δ so that gear a's own rotation relative to the carrier counts positive
+        # (Lin & Parker: +u_s for the sun mesh, +u_r for the ring mesh)
+        if (np.exp(1j * (m.theta_a + phi[m.link_a] - psi))).real < 0:
+            real = -real
         a = sz.module * math.cos(sz.alpha) / 2 * real
+        a = a + mesh_translation(m, layout, sz.alpha, sz.settings.position_angle_deg, len(a))
         rel_a = np.exp(-1j * phi[m.link_a]) * (pmap[idx[m.link_a]] - pmap[idx[k]])
         b = m.teeth_a / (2 * math.pi) * rel_a.real
         s = sz.settings

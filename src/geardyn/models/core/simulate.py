@@ -147,10 +147,48 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
         raise InputError(f"t_end_s: the run end must be a finite time > 0 s (got {t_end_s!r})")
     model = model_from_config(cfg)
     drives, t_grid, force = drive_rows(model, sim, t_end)
-    system = model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
-                          sim.contact_loss)
     v0 = rigid_velocity(model, dict(sim.initial_speed_rpm))
-    return Prepared(model, system, np.zeros(model.n), v0, t_end, sim)
+
+    def build() -> LinearSystem:
+        return model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
+                            sim.contact_loss)
+
+    orient_meshes(model, build(), v0)
+    return Prepared(model, build(), np.zeros(model.n), v0, t_end, sim)
+
+
+def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> None:
+    """Orient every mesh so that its deflection is positive on the flank loaded by the
+    initial drive torques (contact loss, seed 004 eq 3.2, is δ < 0; mesh forces come out
+    positive under load).
+
+    Quasi-static deflection under the initial loads f = F − C v₀ (drives, torques): the rigid
+    part of f accelerates the rigid-body modes (Φ mass-normalised null space of K + speed-control
+    stiffness), the rest deflects the springs, K q = f − M Φ Φᵀ f. A mesh with aᵀq < 0 has
+    its row (and error table) negated; unloaded meshes keep their sign.
+    """
+    from geardyn.solve.integrate import reference_rhs
+
+    n = model.n
+    acc = reference_rhs(system)(0.0, np.concatenate([np.zeros(n), v0]))[n:]
+    f = system.M @ acc
+    k = model.stiffness_matrix()
+    d = system.drives
+    for i in range(d.kind.shape[0]):
+        if d.kind[i] == SPEED_CONTROL:
+            k[d.a[i], d.a[i]] += d.p0[i] * d.ha[i] ** 2
+    import scipy.linalg as sla
+
+    null = sla.null_space(k, rcond=1e-10)
+    if null.shape[1]:
+        mn = null.T @ system.M @ null
+        f = f - system.M @ null @ np.linalg.solve(mn, null.T @ f)
+    q, *_ = np.linalg.lstsq(k, f, rcond=1e-12)
+    for m in model.meshes:
+        delta = float(m.a @ q)
+        if delta < -1e-12 * max(float(np.abs(m.a).max()) * float(np.abs(q).max()), 1e-300):
+            m.a = -m.a
+            m.e = -m.e
 
 
 def integrate(p: Prepared, progress: Callable[[float], None] | None = None

@@ -1,0 +1,131 @@
+"""Lateral DOFs of the general model: the in-plane translations of Lin & Parker (1999).
+
+With ``[dynamics] lateral = true``:
+
+* a link turning in the frame gets ``x``, ``y`` (m, fixed frame), held by a bearing of
+  ``bearing_n_per_m`` in x and y;
+* a planet — a link turning, on a parallel axis, in a carrier that turns in the frame — gets
+  ``zeta`` (radial) and ``eta`` (tangential) (m) *relative to its pin* at the planet angle ψ,
+  held by the planet bearing (seed 003 eqs 3.14-3.16: δ_ζ = −ζ, δ_η = −η in these
+  coordinates). Its centre moves by (x_c, y_c) + R(ψ)(ζ, η), plus the orbit r_c θ_c of the
+  carrier rotation, so ½ m |R(ψ)ᵀ d + (0, r_c θ̇_c)|² replaces the orbit term;
+* a mesh of two parallel-axis gears adds the relative centre displacement projected on its line
+  of action, n·(d_a − d_b) with n = (−sin(ψ − α), cos(ψ − α)) for an external pair (ψ: from
+  a's centre to b's) and n·(d_int − d_ext) with n = (−sin(ψ + α), cos(ψ + α)) for an internal
+  one (ψ: from the internal gear's centre to the external gear's) — the Lin & Parker sun–planet
+  and ring–planet deflections (seed 003 notes §2.3), the torsional part being the Willis row.
+
+Gyroscopic and centripetal terms of the rotating carrier frame are not included (G = 0).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from geardyn.kinematics.graph import GearMesh, MechanismGraph
+from geardyn.models.core.model import Spring
+
+
+@dataclass(frozen=True)
+class LateralBody:
+    """Lateral coordinates of one link: ``kind`` "fixed" (x, y) or "planet" (ζ, η)."""
+
+    link: str
+    kind: str
+    dofs: tuple[int, int]
+    angle: float = 0.0  # planet angle ψ (rad)
+    carrier: str | None = None
+
+
+def lateral_layout(tree: list[tuple[str, str]], phi: Mapping[str, float],
+                   graph: MechanismGraph, first: int) -> dict[str, LateralBody]:
+    """Which links get lateral DOFs, numbered from ``first`` (module docstring)."""
+    angles = {p: a for ps in graph.planetary_sets
+              for p, a in zip(ps.planets, ps.planet_angles, strict=True)}
+    parent = dict(tree)
+    out: dict[str, LateralBody] = {}
+    k = first
+    for link, p in tree:
+        if p == graph.frame:
+            out[link] = LateralBody(link, "fixed", (k, k + 1))
+        elif parent.get(p) == graph.frame and abs(math.sin(phi[link] - phi[p])) < 1e-9:
+            out[link] = LateralBody(link, "planet", (k, k + 1), angles.get(link, 0.0), p)
+        else:
+            continue
+        k += 2
+    return out
+
+
+def centre_map(link: str, layout: Mapping[str, LateralBody], n: int) -> np.ndarray:
+    """D (2 × n): displacement (x, y) of the link's centre = D q (the carrier's rotation
+    excluded: it is in the Willis row)."""
+    d = np.zeros((2, n))
+    b = layout.get(link)
+    if b is None:
+        return d
+    if b.kind == "fixed":
+        d[0, b.dofs[0]] = 1.0
+        d[1, b.dofs[1]] = 1.0
+        return d
+    c, s = math.cos(b.angle), math.sin(b.angle)
+    d[:, b.dofs[0]] = (c, s)
+    d[:, b.dofs[1]] = (-s, c)
+    return d + centre_map(b.carrier or "", layout, n)
+
+
+def lateral_mass(layout: Mapping[str, LateralBody], mass: Mapping[str, float],
+                 orbit: Mapping[str, float], rotation: Mapping[str, np.ndarray], n: int
+                 ) -> np.ndarray:
+    """Translational kinetic energy ½ q̇ᵀ M q̇ of every link with lateral DOFs."""
+    mm = np.zeros((n, n))
+    for b in layout.values():
+        d = centre_map(b.link, layout, n)
+        if b.kind == "planet":
+            c, s = math.cos(b.angle), math.sin(b.angle)
+            d = np.array([[c, s], [-s, c]]) @ d  # (ζ, η) components at ψ
+            d[1] += orbit.get(b.link, 0.0) * rotation[b.carrier or ""]
+        mm += mass[b.link] * d.T @ d
+    return mm
+
+
+def bearing_springs(layout: Mapping[str, LateralBody], stiffness: Mapping[str, float], n: int
+                    ) -> list[Spring]:
+    """Bearings: x, y to the frame, or radial/tangential on the pin (N/m)."""
+    out = []
+    for b in layout.values():
+        labels = ("x", "y") if b.kind == "fixed" else ("zeta", "eta")
+        for j, lab in zip(b.dofs, labels, strict=True):
+            a = np.zeros(n)
+            a[j] = 1.0
+            out.append(Spring(f"{b.link}.bearing.{lab}", "bearing", stiffness.get(b.link, 0.0),
+                              a))
+    return out
+
+
+def mesh_translation(m: GearMesh, layout: Mapping[str, LateralBody], alpha: float,
+                     position_deg: float | None, n: int) -> np.ndarray:
+    """Lateral part of the mesh deflection row (module docstring); zero without lateral DOFs
+    or for a pair on intersecting axes."""
+    if (abs(math.sin(m.theta_a)) > 1e-9 or abs(math.sin(m.theta_b)) > 1e-9
+            or not ({m.link_a, m.link_b} & set(layout))):
+        return np.zeros(n)
+    int_a = abs(m.theta_a) > math.pi / 2
+    int_b = abs(m.theta_b) > math.pi / 2
+    planet = next((x for x in (m.link_b, m.link_a)
+                   if x in layout and layout[x].kind == "planet"), None)
+    if planet is not None:
+        psi = layout[planet].angle
+        if planet == m.link_a and not (int_a or int_b):
+            psi += math.pi  # from a (the planet) to b
+    else:
+        psi = math.radians(position_deg or 0.0)
+    da, db = centre_map(m.link_a, layout, n), centre_map(m.link_b, layout, n)
+    # internal pair: σ n·(d_int − d_ext) with σ = +1 when the internal gear is side a, −1
+    # otherwise (the torsional row is oriented by side a) — n·(d_a − d_b) either way
+    tilt = alpha if (int_a or int_b) else -alpha
+    nvec = np.array([-math.sin(psi + tilt), math.cos(psi + tilt)])
+    return nvec @ (da - db)
