@@ -49,15 +49,29 @@ def escape_markup(text: str | None) -> str | None:
     return None if text is None else _UNESCAPED_BRACKET.sub(r"\\[", text)
 
 
-def _finite_callback(previous: Any) -> Any:
-    """A parameter callback refusing nan/inf in a float option (click accepts them), then
-    calling the option's own callback."""
+#: Range of numeric options, the same for every command that has them (checked while parsing,
+#: before any work): option → (rule, bound).
+OPTION_RULES: dict[str, tuple[str, float]] = {
+    "--revolutions": (">", 0), "--t-end": (">", 0), "--fs": (">", 0), "--cycles": (">", 0),
+    "--clock": (">", 0), "--k": (">", 0), "--seed": ("≥", 0), "--record-seed": ("≥", 0),
+    "--skip": ("≥", 0), "--samples": ("≥", 4), "--samples-per-rev": ("≥", 4),
+    "--ppr": ("≥", 1), "--ias-ppr": ("≥", 1), "--blocks": ("≥", 1),
+}
+
+
+def _number_callback(previous: Any, rule: tuple[str, float] | None) -> Any:
+    """A parameter callback refusing nan/inf in a numeric option (click accepts them) and
+    values outside :data:`OPTION_RULES`, then calling the option's own callback."""
 
     def check(ctx: Any, param: Any, value: Any) -> Any:
         values = value if isinstance(value, list | tuple) else [value]
         for v in values:
             if isinstance(v, float) and not math.isfinite(v):
                 raise typer.BadParameter(f"must be a finite number, got {v}", param=param)
+            if rule is not None and isinstance(v, int | float) and not isinstance(v, bool):
+                op, bound = rule
+                if not (v > bound if op == ">" else v >= bound):
+                    raise typer.BadParameter(f"must be {op} {bound:g}, got {v:g}", param=param)
         return previous(ctx, param, value) if previous is not None else value
 
     return check
@@ -72,9 +86,11 @@ def _finish(cmd: Any) -> Any:
     for param in cmd.params:
         if getattr(param, "help", None):
             param.help = escape_markup(param.help)
-        annotation = getattr(getattr(param, "type_descriptor", None), "annotation", None)
-        if "float" in str(annotation):
-            param.callback = _finite_callback(param.callback)
+        annotation = str(getattr(getattr(param, "type_descriptor", None), "annotation", ""))
+        rule = next((OPTION_RULES[o] for o in getattr(param, "opts", []) if o in OPTION_RULES),
+                    None)
+        if "float" in annotation or ("int" in annotation and rule is not None):
+            param.callback = _number_callback(param.callback, rule)
     cmd._geardyn_finished = True
     return cmd
 

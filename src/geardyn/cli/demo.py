@@ -12,6 +12,7 @@ from geardyn.cli import app
 from geardyn.cli.common import console, friendly_errors
 from geardyn.cli.kinematics import render_kinematics
 from geardyn.config import load_config
+from geardyn.errors import InputError
 from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
 
 #: Examples shown by the demo, in order (relative to the examples directory).
@@ -60,6 +61,10 @@ def demo_cmd(
 ) -> None:
     """Run the examples of the sources (seed 000, 003, 004) and print their results."""
     folder = examples or examples_dir()
+    missing = [n for n in KINEMATIC_EXAMPLES if not (folder / n).is_file()]
+    if not folder.is_dir() or missing:
+        raise InputError(f"--examples: '{folder}' is not an examples folder (needs "
+                         f"{', '.join(missing or KINEMATIC_EXAMPLES)})")
     for name in KINEMATIC_EXAMPLES:
         cfg = load_config(folder / name)
         analysis = analyze_kinematics(cfg)

@@ -17,8 +17,8 @@ from rich.markup import escape
 from rich.table import Table
 
 from geardyn.cli import app
-from geardyn.cli.common import check_number, console, friendly_errors
-from geardyn.errors import InputError
+from geardyn.cli.common import check_number, check_output_dir, console, friendly_errors
+from geardyn.errors import ConfigError, InputError
 
 _STYLE = {"alarm": "bold red", "healthy": "green", "unknown": "dim"}
 
@@ -99,7 +99,9 @@ def diagnose_cmd(
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from geardyn.config import load_config
-    from geardyn.diagnosis.pipeline import check_output_dir, diagnose, diagnose_files
+    from geardyn.config.sensors import sensor_name_problems
+    from geardyn.diagnosis.pipeline import check_output_dir as make_output_dir
+    from geardyn.diagnosis.pipeline import diagnose, diagnose_files
 
     check_number(k, "--k", gt=0, le=1e3)
     check_number(sigma_floor, "--sigma-floor", ge=0, le=1)
@@ -116,11 +118,15 @@ def diagnose_cmd(
     for path, option in [(p, "--baseline") for p in baseline or []] + [(record, "--record")]:
         if path is not None and not path.is_file():
             raise InputError(f"{option}: file '{path}' does not exist")
+    check_output_dir(out, "--out")
     if bool(baseline) != (record is not None):
         raise InputError("--baseline and --record go together: give healthy result file(s) "
                          "and the record to judge, or neither (simulate both)")
     cfg = load_config(config)
-    check_output_dir(out)
+    problems = sensor_name_problems(cfg)
+    if problems:
+        raise ConfigError(problems, source=str(config))
+    make_output_dir(out)
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as prog:
         task = prog.add_task("diagnosis", total=1.0)

@@ -52,3 +52,29 @@ class DiagnosisSpec(BaseModel):
         if len(set(seeds)) != len(seeds):
             raise ValueError(f"seeds must be distinct, got {seeds}")
         return seeds
+
+
+def check_diagnosis(cfg: object) -> list[str]:
+    """Cross-checks: the channel is a [[sensors]] entry that records a signal (not a tacho),
+    the reference a mechanism link, skip_s shorter than t_end_s."""
+    spec: DiagnosisSpec | None = getattr(cfg, "diagnosis", None)
+    if spec is None:
+        return []
+    problems: list[str] = []
+    sensors = {s.name: s for s in getattr(cfg, "sensors", [])}
+    if spec.channel is not None:
+        usable = [n for n, s in sensors.items() if s.kind != "tacho"]
+        if spec.channel not in sensors:
+            problems.append(f"diagnosis.channel: unknown sensor '{spec.channel}' (sensors: "
+                            f"{', '.join(usable) or 'none: add [[sensors]]'})")
+        elif sensors[spec.channel].kind == "tacho":
+            problems.append(f"diagnosis.channel: '{spec.channel}' is a tacho (a speed "
+                            f"reference, not a signal); choose one of: {', '.join(usable)}")
+    links = {lk.name for lk in getattr(cfg, "links", [])}
+    if spec.reference is not None and links and spec.reference not in links:
+        problems.append(f"diagnosis.reference: unknown link '{spec.reference}' (links: "
+                        f"{', '.join(sorted(links))})")
+    if spec.t_end_s is not None and spec.skip_s >= spec.t_end_s:
+        problems.append(f"diagnosis.skip_s: the discarded start {spec.skip_s:g} s must be "
+                        f"shorter than t_end_s {spec.t_end_s:g} s")
+    return problems

@@ -9,7 +9,7 @@ from typing import Any
 
 from pydantic import Field, ValidationError, model_validator
 
-from geardyn.config.diagnosis import DiagnosisSpec
+from geardyn.config.diagnosis import DiagnosisSpec, check_diagnosis
 from geardyn.config.dynamics import Dynamics, check_dynamics
 from geardyn.config.gears import GearGeometryConfig, check_gear_geometry
 from geardyn.config.mechanism import Mechanism
@@ -76,6 +76,13 @@ class GeardynConfig(Mechanism):
     diagnosis: DiagnosisSpec | None = Field(
         None, description="baseline, thresholds and verdict (see geardyn.config.diagnosis)"
     )
+
+    @model_validator(mode="after")
+    def _check_diagnosis(self) -> GeardynConfig:
+        problems = check_diagnosis(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
 
     dynamics: Dynamics | None = Field(
         None, description="general torsional model of the mechanism (see geardyn.config.dynamics)"

@@ -120,10 +120,57 @@ class SensorSpec(_M):
         return 1 if self.kind == "tacho" else 1000
 
 
+def model_names(cfg: object) -> tuple[set[str] | None, set[str] | None]:
+    """Names a sensor may refer to before any model is built: shafts (mechanism links,
+    planetary bodies — ``sun``, ``ring``, ``carrier``, ``planetN``, stage-prefixed when there
+    are several stages —, rotors, FE shafts and their links) and accelerometer locations
+    (``ring``, bearings of the mechanism, of the FE model and planetary bodies). None when a
+    config section whose bodies are named at run time is present (``[dynamics]``)."""
+    if getattr(cfg, "dynamics", None) is not None:
+        return None, None
+    shafts = {lk.name for lk in getattr(cfg, "links", [])}
+    locations = {"ring"} | {b.name for b in getattr(cfg, "bearings", []) if b.name}
+    pd = getattr(cfg, "planetary_dynamics", None)
+    if pd is not None:
+        stages = {s.name: s for s in getattr(cfg, "planetary", [])}
+        multi = len(pd.stages) > 1
+        for sd in pd.stages:
+            st = stages.get(sd.stage)
+            pre = f"{sd.stage}." if multi else ""
+            bodies = {pre + b for b in ("sun", "ring", "carrier")}
+            if st is not None:
+                bodies |= {f"{pre}planet{j + 1}" for j in range(st.n_planets)}
+            shafts |= bodies
+            locations |= bodies
+        shafts |= {r.name for r in pd.rotors}
+        locations |= {r.name for r in pd.rotors}
+    tr = getattr(cfg, "transmission", None)
+    if tr is not None:
+        shafts |= {s.name for s in tr.shafts} | {s.link for s in tr.shafts if s.link}
+        locations |= {b.name for b in tr.bearings}
+    return shafts, locations
+
+
+def sensor_name_problems(cfg: object) -> list[str]:
+    """Sensors whose shaft or location is none of :func:`model_names` (the commands that run
+    a model call this before the run; the run checks again against the built model)."""
+    shafts, locations = model_names(cfg)
+    problems: list[str] = []
+    for i, s in enumerate(getattr(cfg, "sensors", [])):
+        where = f"sensors[{i}] '{s.name}'"
+        if shafts is not None and s.shaft is not None and s.shaft not in shafts:
+            problems.append(f"{where}.shaft: '{s.shaft}' is not a shaft of the model (shafts: "
+                            f"{', '.join(sorted(shafts))})")
+        if locations is not None and s.kind == "accelerometer" and s.location is not None \
+                and s.location not in locations:
+            problems.append(f"{where}.location: unknown location '{s.location}' (locations: "
+                            f"{', '.join(sorted(locations))})")
+    return problems
+
+
 def check_sensors(cfg: object) -> list[str]:
-    """Cross-checks: unique names, stages that exist in the mechanism (shafts and bearing
-    locations are checked against the model when the run starts: rotors and planets are model
-    bodies, not links)."""
+    """Cross-checks: unique names, stages that exist in the mechanism (shafts and locations:
+    :func:`sensor_name_problems`, and against the model when the run starts)."""
     sensors: list[SensorSpec] = getattr(cfg, "sensors", [])
     problems: list[str] = []
     stages = {s.name for s in getattr(cfg, "planetary", [])}

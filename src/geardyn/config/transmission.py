@@ -165,6 +165,11 @@ class TransmissionConfig(_Strict):
         if self.speed_law is not None:
             check(self.speed_law.reference, "speed_law.reference")
         wheel_pairs = {(w.pair, w.gear) for w in self.wheels}
+        mesh_pairs = {m.pair for m in self.meshes}
+        for i, w in enumerate(self.wheels):
+            if w.pair not in mesh_pairs:
+                problems.append(f"wheels[{i}].pair: no [[transmission.meshes]] entry for pair "
+                                f"'{w.pair}' (meshes: {', '.join(sorted(mesh_pairs)) or 'none'})")
         for i, m in enumerate(self.meshes):
             for g in ("a", "b"):
                 if (m.pair, g) not in wheel_pairs:
@@ -184,6 +189,18 @@ def check_transmission(cfg) -> list[str]:  # noqa: ANN001 - GeardynConfig (avoid
 
     problems: list[str] = []
     shafts = {s.name: s for s in t.shafts}
+    geometry_pairs = {g.pair for g in getattr(cfg, "gear_geometry", [])}
+    for i, w in enumerate(t.wheels):
+        if w.pair not in geometry_pairs:
+            known = ", ".join(sorted(geometry_pairs)) or "none"
+            problems.append(f"transmission.wheels[{i}].pair: unknown pair '{w.pair}' (pairs "
+                            f"with [[gear_geometry]]: {known})")
+    seen: dict[tuple[str, str], int] = {}
+    for i, w in enumerate(t.wheels):
+        if (w.pair, w.gear) in seen:
+            problems.append(f"transmission.wheels[{i}]: gear {w.gear} of pair '{w.pair}' is "
+                            f"already placed by wheels[{seen[(w.pair, w.gear)]}]")
+        seen.setdefault((w.pair, w.gear), i)
     for i, m in enumerate(t.meshes):
         try:
             g = pair_model(cfg, m.pair).geometry

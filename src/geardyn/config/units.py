@@ -123,6 +123,9 @@ except ImportError:  # pragma: no cover
 
 
 def _convert_value(value: Any, unit: Suffix, path: str, problems: list[str]) -> Any:
+    if isinstance(value, bool):
+        problems.append(f"{path}: expected a number ({unit.what}), got {str(value).lower()}")
+        return value
     if isinstance(value, str):
         try:
             value = to_unit(value, unit.unit, unit.what)
@@ -172,7 +175,7 @@ def convert_units(data: Any, path: str = "", problems: list[str] | None = None) 
             if str(key) in PAIR_FIELDS and isinstance(value, list):
                 unit = found[1] if found else SUFFIXES["_nm"]  # torque profile [[t_s, N·m]]
                 out[key] = _convert_field(value, str(key), unit, sub, problems)
-            elif found is not None and not isinstance(value, bool):
+            elif found is not None:
                 out[key] = _convert_field(value, str(key), found[1], sub, problems)
             else:
                 out[key] = convert_units(value, sub, problems)
