@@ -17,6 +17,12 @@ so its ring-mesh phase is ``Z_r(θ − ψ_n)``: ``s = −1`` (default). Only thi
 measured dominant components of seed 003 §4.1 (66, 129 and 195 carrier orders at 1498.5 rpm,
 325.6/636.4/962.0 Hz); the printed sign puts them at 64/67, 131 and 195 carrier orders.
 
+Coupled into the simulated bench (seed 003 eq 4.14) by the opt-in ``planet_pass`` of a
+``[[planetary_dynamics.stages]]`` entry (``geardyn.models.planetary.build``): the force is
+added to the ring rotation DOF; the model's planet n sits at θ_c + ψ_n, so it is passed here
+with planet angles −ψ_n (planets at θ − ψ'), which makes the mesh term the model's ring-mesh
+phase.
+
 Units: angle [rad]; output in the unit of the amplitudes ``A_h`` (force [N] or acceleration).
 """
 
