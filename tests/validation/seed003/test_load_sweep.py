@@ -98,3 +98,29 @@ def test_variable_load_dominant_line():
     prof = [[0.0, 100.0], [0.1 + 1.5 * TC, 700.0], [t_end, 400.0]]
     f_dom, _, _ = _ring_lines(run(_config(100.0, prof), t_end, DT)[2])
     assert f_dom == pytest.approx(129 * FC, abs=FC / 3)
+
+
+@pytest.mark.parametrize("c", [1.5, 1.6, 1.77])
+def test_mesh_harmonics_closed_form(c):
+    """The planet-pass amplitudes come from the mesh table's harmonics (``mesh_harmonics``).
+    For the square wave (eq 1.11), the relative amplitude of harmonic h is
+    2Δk|sin(πh(c−1))|/(πh k̄) (continuous form; to 0.5 % when the double-contact share is
+    whole samples, c = 1.5) and exactly the Dirichlet sum 2Δk|sin(πhn₁/L)|/(L|sin(πh/L)| k̄)
+    of the L-sample table with n₁ double-contact samples."""
+    from geardyn.gears import square_wave
+    from geardyn.models.planetary.build import SAMPLES_PER_CYCLE, mesh_harmonics
+    from geardyn.models.planetary.dynamics import MeshLaw
+
+    n = SAMPLES_PER_CYCLE
+    x = np.arange(n) / n
+    k = square_wave(x, 1.2, 0.8, c)
+    amp, _ = mesh_harmonics(MeshLaw(k), 3)
+    n1 = int(np.sum(k == 1.2))
+    k_bar = k.mean()
+    h = np.arange(1, 4)
+    exact = 2 * 0.4 * np.abs(np.sin(np.pi * h * n1 / n)) / (n * np.abs(np.sin(np.pi * h / n))
+                                                          ) / k_bar
+    np.testing.assert_allclose(amp, exact, rtol=1e-9, atol=1e-15)
+    if c == 1.5:
+        cont = 2 * 0.4 * np.abs(np.sin(np.pi * h * (c - 1))) / (np.pi * h) / 1.0
+        np.testing.assert_allclose(amp, cont, rtol=5e-3, atol=1e-12)
