@@ -14,9 +14,11 @@ solves (Sherman–Morrison–Woodbury, Golub & Van Loan §2.1.4)
 
     x = y − Z (I + D UᵀZ)⁻¹ D Uᵀ y,   y = A₀⁻¹ b,   Z = A₀⁻¹ U (precomputed),
 
-i.e. one sparse triangular solve (O(nnz)) plus an r×r solve (r = meshes + 2 × couplings)
-instead of a dense O(n³) factorisation. Mass schedules and gyroscopic terms are not supported
-(they change M or C everywhere): use :func:`~geardyn.solve.integrate.newmark` for those.
+i.e. two sparse triangular solves with the SuperLU factors of A₀ (O(nnz)) plus an r×r solve
+(r = meshes + 2 × couplings) instead of a dense O(n³) factorisation; sparse matrix–vector
+products for M, K̄, C̄. The step loop is compiled (numba, the mesh, force and drive functions of
+:mod:`geardyn.solve.integrate`). Mass schedules and gyroscopic terms are not supported (they
+change M or C everywhere): use :func:`~geardyn.solve.integrate.newmark` for those.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ import math
 import time
 from collections.abc import Callable
 
+import numba as nb
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -38,6 +41,7 @@ from geardyn.solve.integrate import (
     _drive_forces,
     _force_table,
     _mesh_state,
+    compiled_rhs,
 )
 
 
@@ -92,46 +96,197 @@ class _Step:
         self.uz = self.u.T @ self.z
         self.r = w.shape[1]
 
-    def coupling_blocks(self, v: np.ndarray, d) -> list[np.ndarray]:  # noqa: ANN001
-        """Linearised damping block of each fluid coupling at speeds v (as in the kernels)."""
-        out = []
-        for i in self.couplings:
-            a, b = d.a[i], d.b[i]
-            wa = v[a] * d.ha[i]
-            wb = v[b] * d.hb[i] * d.p1[i]
-            ga = d.p0[i] * (2.0 * wa - wb)
-            gb = -d.p0[i] * wa
-            hb = d.p1[i] * d.hb[i]
-            out.append(np.array([[ga * d.ha[i] ** 2, gb * hb * d.ha[i]],
-                                 [-hb * ga * d.ha[i], -hb * gb * hb]]))
-        return out
 
-    def products(self, x: np.ndarray, dk: np.ndarray, dc: np.ndarray,
-                 blocks: list[np.ndarray], vel: np.ndarray) -> np.ndarray:
-        """C(t) vel + K(t) x with the deviations dk, dc and the coupling blocks."""
-        out = self.K @ x + self.C @ vel
-        out += self.w @ (dk * (self.w.T @ x) + dc * (self.w.T @ vel))
-        for j, blk in enumerate(blocks):
-            cols = self.u[:, self.r + 2 * j: self.r + 2 * j + 2]
-            out += cols @ (blk @ (cols.T @ vel))
-        return out
+@nb.njit(cache=True)
+def _csc_triangular(indptr, indices, data, x, lower):
+    """In-place solve of a sparse triangular system stored by columns (SuperLU's L or U)."""
+    n = x.shape[0]
+    for jj in range(n):
+        j = jj if lower else n - 1 - jj
+        d = 1.0
+        for p in range(indptr[j], indptr[j + 1]):
+            if indices[p] == j:
+                d = data[p]
+        x[j] /= d
+        xj = x[j]
+        for p in range(indptr[j], indptr[j + 1]):
+            i = indices[p]
+            if (lower and i > j) or (not lower and i < j):
+                x[i] -= data[p] * xj
 
-    def solve(self, b: np.ndarray, dk: np.ndarray, dc: np.ndarray,
-              blocks: list[np.ndarray]) -> np.ndarray:
-        """A(t)⁻¹ b by Woodbury (module docstring)."""
-        y = self.lu.solve(b)
-        m = self.u.shape[1]
-        if m == 0:
-            return y
-        f = 1.0 - self.alpha
-        dmat = np.zeros((m, m))
-        dmat[np.arange(self.r), np.arange(self.r)] = f * (self.beta * self.dt**2 * dk
-                                                          + self.gamma * self.dt * dc)
-        for j, blk in enumerate(blocks):
-            sl = slice(self.r + 2 * j, self.r + 2 * j + 2)
-            dmat[sl, sl] = f * self.gamma * self.dt * blk
-        cap = np.eye(m) + dmat @ self.uz
-        return y - self.z @ np.linalg.solve(cap, dmat @ (self.u.T @ y))
+
+@nb.njit(cache=True)
+def _lu_solve(b, perm_r, perm_c, lp, li, lx, up, ui, ux, out):
+    """A₀ x = b with Pr A₀ Pc = L U (scipy SuperLU conventions)."""
+    n = b.shape[0]
+    y = np.empty(n)
+    for j in range(n):
+        y[perm_r[j]] = b[j]
+    _csc_triangular(lp, li, lx, y, True)
+    _csc_triangular(up, ui, ux, y, False)
+    for i in range(n):
+        out[i] = y[perm_c[i]]
+
+
+@nb.njit(cache=True)
+def _csr_matvec(indptr, indices, data, x, out):
+    for i in range(out.shape[0]):
+        acc = 0.0
+        for p in range(indptr[i], indptr[i + 1]):
+            acc += data[p] * x[indices[p]]
+        out[i] += acc
+
+
+@nb.njit(cache=True)
+def _products(kp, ki, kx, cp, ci, cx, w, dk, dc, ca, cb, blocks, x, vel, out):
+    """out = C(t) vel + K(t) x (constant sparse part + mesh deviations + coupling blocks)."""
+    out[:] = 0.0
+    _csr_matvec(kp, ki, kx, x, out)
+    _csr_matvec(cp, ci, cx, vel, out)
+    n, r = w.shape
+    for e in range(r):
+        sx = 0.0
+        sv = 0.0
+        for i in range(n):
+            sx += w[i, e] * x[i]
+            sv += w[i, e] * vel[i]
+        g = dk[e] * sx + dc[e] * sv
+        if g != 0.0:
+            for i in range(n):
+                out[i] += w[i, e] * g
+    for j in range(ca.shape[0]):
+        va, vb = vel[ca[j]], vel[cb[j]]
+        out[ca[j]] += blocks[j, 0, 0] * va + blocks[j, 0, 1] * vb
+        out[cb[j]] += blocks[j, 1, 0] * va + blocks[j, 1, 1] * vb
+
+
+@nb.njit(cache=True)
+def _state(q, v, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar, cbar,
+           dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, ca, cidx,
+           kout, eout, dout, f, dk, dc, blocks):
+    """Mesh state, force vector and the deviations from the constant part at (q, v, t)."""
+    _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kout, eout, dout)
+    _force_table(t, ft, fv, f)
+    _drive_forces(t, q, v, dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
+    n = q.shape[0]
+    for e in range(sa.shape[0]):
+        lost = closs[e] == 1 and dout[e] < 0.0
+        k = 0.0 if lost else kout[e]
+        dk[e] = k - kbar[e]
+        dc[e] = (0.0 if lost else cbar[e]) - cbar[e]
+        if k != 0.0 and eout[e] != 0.0:
+            for i in range(n):
+                f[i] -= k * eout[e] * sa[e, i]
+    for j in range(ca.shape[0]):
+        i = cidx[j]
+        a, b = da[i], db[i]
+        wa = v[a] * dha[i]
+        wb = v[b] * dhb[i] * dp1[i]
+        ga = dp0[i] * (2.0 * wa - wb)
+        gb = -dp0[i] * wa
+        hb = dp1[i] * dhb[i]
+        blocks[j, 0, 0] = ga * dha[i] * dha[i]
+        blocks[j, 0, 1] = gb * hb * dha[i]
+        blocks[j, 1, 0] = -hb * ga * dha[i]
+        blocks[j, 1, 1] = -hb * gb * hb
+
+
+@nb.njit(cache=True)
+def _lowrank_kernel(kp, ki, kx, cp, ci, cx, w, kbar, cbar, z, uz, ca, cb, cidx,
+                    perm_r, perm_c, lp, li, lx, up, ui, ux,
+                    sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs,
+                    dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                    q0, v0, acc0, t0, dt, nsteps, save_every, alpha, qlim,
+                    Q, V, KS, DS, TS):
+    """Fixed-step HHT-α/Newmark with the Woodbury solve; returns (steps, status, bad DOF)."""
+    n = q0.shape[0]
+    ns = sa.shape[0]
+    r = w.shape[1]
+    m = z.shape[1]
+    nc = ca.shape[0]
+    beta = (1.0 + alpha) ** 2 / 4.0
+    gamma = 0.5 + alpha
+    fa = 1.0 - alpha
+    kout, eout, dout = np.empty(ns), np.empty(ns), np.empty(ns)
+    dk, dc = np.empty(ns), np.empty(ns)
+    f, prod, rhs, y = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    blocks = np.zeros((nc, 2, 2))
+    dmat = np.zeros((m, m))
+    uy = np.empty(m)
+    q = q0.copy()
+    v = v0.copy()
+    acc = acc0.copy()
+    _state(q, v, t0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar, cbar,
+           dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, ca, cidx,
+           kout, eout, dout, f, dk, dc, blocks)
+    _products(kp, ki, kx, cp, ci, cx, w, dk, dc, ca, cb, blocks, q, v, prod)
+    r0 = f - prod
+    Q[0] = q
+    V[0] = v
+    KS[0] = dk + kbar
+    DS[0] = dout
+    TS[0] = t0
+    isave = 1
+    for step in range(1, nsteps + 1):
+        t = t0 + step * dt
+        qp = q + dt * v + dt * dt * (0.5 - beta) * acc
+        vp = v + dt * (1.0 - gamma) * acc
+        _state(qp, vp, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar, cbar,
+               dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, ca, cidx,
+               kout, eout, dout, f, dk, dc, blocks)
+        _products(kp, ki, kx, cp, ci, cx, w, dk, dc, ca, cb, blocks, qp, vp, prod)
+        for i in range(n):
+            rhs[i] = fa * (f[i] - prod[i]) + alpha * r0[i]
+        _lu_solve(rhs, perm_r, perm_c, lp, li, lx, up, ui, ux, y)
+        if m > 0:
+            dmat[:, :] = 0.0
+            for e in range(r):
+                dmat[e, e] = fa * (beta * dt * dt * dk[e] + gamma * dt * dc[e])
+            for j in range(nc):
+                for a in range(2):
+                    for b in range(2):
+                        dmat[r + 2 * j + a, r + 2 * j + b] = fa * gamma * dt * blocks[j, a, b]
+            for e in range(r):
+                s_ = 0.0
+                for i in range(n):
+                    s_ += w[i, e] * y[i]
+                uy[e] = s_
+            for j in range(nc):
+                uy[r + 2 * j] = y[ca[j]]
+                uy[r + 2 * j + 1] = y[cb[j]]
+            cap = np.eye(m) + dmat @ uz
+            corr = np.linalg.solve(cap, dmat @ uy)
+            y -= z @ corr
+        q = qp + beta * dt * dt * y
+        v = vp + gamma * dt * y
+        acc = y.copy()
+        _products(kp, ki, kx, cp, ci, cx, w, dk, dc, ca, cb, blocks, q, v, prod)
+        r0 = f - prod
+        bad = -1
+        for j in range(n):
+            if not math.isfinite(q[j]) or abs(q[j]) > qlim:
+                bad = j
+                break
+        if bad >= 0:
+            return step - 1, 1, bad
+        if step % save_every == 0:
+            Q[isave] = q
+            V[isave] = v
+            KS[isave] = dk + kbar
+            DS[isave] = dout
+            TS[isave] = t
+            isave += 1
+    return nsteps, 0, -1
+
+
+def _csr(a: sp.spmatrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    a = sp.csr_matrix(a)
+    return a.indptr.astype(np.int64), a.indices.astype(np.int64), a.data.astype(float)
+
+
+def _csc(a: sp.spmatrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    a = sp.csc_matrix(a)
+    return a.indptr.astype(np.int64), a.indices.astype(np.int64), a.data.astype(float)
 
 
 def newmark_lowrank(
@@ -145,70 +300,59 @@ def newmark_lowrank(
     t0: float = 0.0,
     q_limit: float = 1e10,
     progress: Callable[[float], None] | None = None,
+    chunk_steps: int = 20000,
 ) -> IntegrationResult:
     """Fixed-step Newmark/HHT-α of ``sys`` with the Woodbury step solve (module docstring).
 
-    Same arguments and result as :func:`geardyn.solve.integrate.newmark`; a step producing
-    non-finite values or |q| > ``q_limit`` stops the run with status ``diverged``.
+    Same arguments and result as :func:`geardyn.solve.integrate.newmark`; the run is cut into
+    chunks of ``chunk_steps`` for ``progress(fraction)``; a step producing non-finite values or
+    |q| > ``q_limit`` stops the run with status ``diverged`` (the computed part is kept).
     """
     _check(sys, alpha, dt, t_end, t0)
     w0 = time.perf_counter()
     st = _Step(sys, dt, alpha)
     s, d = sys.springs, sys.drives
     n, ns = sys.n, s.a.shape[0]
-    beta, gamma = st.beta, st.gamma
-    ft, fv = np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float)
-    kout, eout, dout = np.empty(ns), np.empty(ns), np.empty(ns)
-    f = np.empty(n)
-
-    def state(q: np.ndarray, v: np.ndarray, t: float) -> tuple:
-        _mesh_state(q, s.a, s.b, s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper,
-                    s.contact_loss, kout, eout, dout)
-        _force_table(t, ft, fv, f)
-        _drive_forces(t, q, v, d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen, f)
-        lost = (s.contact_loss == 1) & (dout < 0.0)
-        k = np.where(lost, 0.0, kout)
-        c = np.where(lost, 0.0, st.cbar)
-        force = f - st.w @ (k * eout)
-        return force, k - st.kbar, c - st.cbar, st.coupling_blocks(v, d)
-
+    lu = st.lu
+    fixed = (*_csr(st.K), *_csr(st.C), np.ascontiguousarray(st.w), st.kbar, st.cbar,
+             np.ascontiguousarray(st.z), np.ascontiguousarray(st.uz),
+             np.array([d.a[i] for i in st.couplings], np.int64),
+             np.array([d.b[i] for i in st.couplings], np.int64),
+             np.array(st.couplings, np.int64),
+             lu.perm_r.astype(np.int64), lu.perm_c.astype(np.int64), *_csc(lu.L), *_csc(lu.U),
+             s.a, s.b, s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper, s.contact_loss,
+             d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen,
+             np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float))
+    q, v, t = np.asarray(q0, float).copy(), np.asarray(v0, float).copy(), float(t0)
+    acc = compiled_rhs(sys)(t, np.concatenate([q, v]))[n:]
     nsteps = int(round((t_end - t0) / dt))
     save_every = max(1, int(save_every))
-    nsave = nsteps // save_every + 1
-    Q, V = np.zeros((nsave, n)), np.zeros((nsave, n))
-    KS, DS, TS = np.zeros((nsave, ns)), np.zeros((nsave, ns)), np.zeros(nsave)
-    q, v = np.asarray(q0, float).copy(), np.asarray(v0, float).copy()
-    force, dk, dc, blocks = state(q, v, t0)
-    r0 = force - st.products(q, dk, dc, blocks, v)
-    acc = spla.spsolve(st.M.tocsc(), r0) if n > 1 else r0 / st.M.toarray()[0, 0]
-    Q[0], V[0], KS[0], DS[0], TS[0] = q, v, dk + st.kbar, dout, t0
-    isave, status, diag = 1, "ok", ""
-    report = max(1, nsteps // 100)
-    for step in range(1, nsteps + 1):
-        t = t0 + step * dt
-        qp = q + dt * v + dt * dt * (0.5 - beta) * acc
-        vp = v + dt * (1.0 - gamma) * acc
-        force, dk, dc, blocks = state(qp, vp, t)
-        rhs = (1.0 - alpha) * (force - st.products(qp, dk, dc, blocks, vp)) + alpha * r0
-        acc = st.solve(rhs, dk, dc, blocks)
-        q = qp + beta * dt * dt * acc
-        v = vp + gamma * dt * acc
-        r0 = force - st.products(q, dk, dc, blocks, v)
-        bad = np.flatnonzero(~np.isfinite(q) | (np.abs(q) > q_limit))
-        if bad.size:
-            name = sys.dof_names[bad[0]] if sys.dof_names else f"#{bad[0]}"
+    chunk = max(save_every, (chunk_steps // save_every) * save_every)
+    parts: list[tuple[np.ndarray, ...]] = []
+    done, status, diag, first = 0, "ok", "", True
+    while done < nsteps:
+        k = min(chunk, nsteps - done)
+        nsave = k // save_every + 1
+        Q, V = np.zeros((nsave, n)), np.zeros((nsave, n))
+        KS, DS, TS = np.zeros((nsave, ns)), np.zeros((nsave, ns)), np.zeros(nsave)
+        steps, code, bad = _lowrank_kernel(*fixed, q, v, acc, t, dt, k, save_every, alpha,
+                                           q_limit, Q, V, KS, DS, TS)
+        kept = steps // save_every + 1
+        sl = slice(0 if first else 1, kept)
+        parts.append((TS[sl], Q[sl], V[sl], KS[sl], DS[sl]))
+        first = False
+        if code != 0:
+            name = sys.dof_names[bad] if sys.dof_names else f"#{bad}"
             status = "diverged"
-            diag = (f"diverged at t = {t:.6g} s: DOF '{name}' became non-finite or exceeded "
-                    f"{q_limit:g}; results kept up to t = {t - dt:.6g} s")
+            diag = (f"diverged at t = {t + (steps + 1) * dt:.6g} s: DOF '{name}' became "
+                    f"non-finite or exceeded {q_limit:g}; results kept up to "
+                    f"t = {t + steps * dt:.6g} s")
             break
-        if step % save_every == 0:
-            Q[isave], V[isave], TS[isave] = q, v, t
-            KS[isave], DS[isave] = dk + st.kbar, dout
-            isave += 1
-        if progress is not None and step % report == 0:
-            progress(step / nsteps)
-    if math.isfinite(TS[isave - 1]) and progress is not None and status == "ok":
-        progress(1.0)
-    sl = slice(0, isave)
-    return IntegrationResult(TS[sl], Q[sl], V[sl], KS[sl], DS[sl], status, diag,
-                             time.perf_counter() - w0)
+        # the next chunk restarts from the saved end state (steps multiple of save_every)
+        q, v, t = Q[kept - 1].copy(), V[kept - 1].copy(), float(TS[kept - 1])
+        acc = compiled_rhs(sys)(t, np.concatenate([q, v]))[n:]
+        done += k
+        if progress is not None:
+            progress(done / nsteps)
+    ts, qs, vs, ks, ds = (np.concatenate(x) for x in zip(*parts, strict=True))
+    return IntegrationResult(ts, qs, vs, ks, ds, status, diag, time.perf_counter() - w0)
