@@ -54,3 +54,34 @@ def test_run_simulation_dispatches_and_overrides_the_run_end(examples_dir):
     assert ds["time"].values[-1] == pytest.approx(0.01)
     rpm = ds["speed_rpm"].sel(shaft="input").values
     assert np.all(np.isfinite(rpm)) and math.isclose(rpm[0], 6000.0, rel_tol=1e-9)
+
+
+def test_run_simulation_measures_the_mechanism_with_its_sensors(examples_dir):
+    """Encoder and tacho channels on links of the whole seed 004 drive (add_sensors)."""
+    import tomllib
+
+    from geardyn.config.loader import parse_config
+    from geardyn.results import channel, channels
+
+    d = tomllib.loads((examples_dir / "reclaimer_whole_drive.toml").read_text())
+    d["sensors"] = [{"name": "wheel_enc", "kind": "encoder", "shaft": "bucket_wheel",
+                     "pulses_per_rev": 1000, "clock_hz": 80e6},
+                    {"name": "motor_tacho", "kind": "tacho", "shaft": "motor"}]
+    ds = run_simulation(parse_config(d), t_end_s=0.3)
+    assert set(channels(ds)) == {"wheel_enc", "motor_tacho"}
+    tacho = channel(ds, "motor_tacho")
+    # one pulse per motor-shaft revolution at ≈ 995 rpm
+    period = float(np.median(np.diff(tacho.values)))
+    assert 60.0 / period == pytest.approx(995.0, rel=5e-3)
+
+
+def test_a_drive_on_a_carried_link_is_refused(examples_dir):
+    import tomllib
+
+    from geardyn.config.loader import parse_config
+    from geardyn.errors import ConfigError
+
+    d = tomllib.loads((examples_dir / "three_stage_gearbox.toml").read_text())
+    d["dynamics"]["simulation"]["torques"].append({"body": "stage1.planet1", "torque_nm": 1.0})
+    with pytest.raises(ConfigError, match=r"torques\[1\]: 'stage1.planet1' turns in another"):
+        run_simulation(parse_config(d), t_end_s=0.01)
