@@ -108,7 +108,7 @@ def _planetary(cfg, seed: int, t_end_s: float | None,  # noqa: ANN001
         _suspect(ds, check_energy(res.energy))
     if ds.attrs["status"] == "ok" and p.system.springs.a.shape[0]:
         # the mesh speeds reached (motor run-ups may exceed the estimate made before the run)
-        tm = mesh_period(p.system, list(res.v))
+        tm = mesh_period(p.system, res.v)
         if tm is not None and tm / sim.dt_s < MIN_STEPS_PER_MESH_REFUSE:
             _suspect(ds, f"the mesh period fell to {tm:.4g} s during the run: "
                          f"{tm / sim.dt_s:.3g} steps per mesh cycle with "

@@ -500,13 +500,13 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
                     dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
                     md, mc, mh, mtx, mty, mtl, gg, gk, gr,
                     qs, vs, accs, r0s, t0, dt, step0, nsteps, save_every, alpha, qlim,
-                    Q, V, KS, DS, TS, en, ek, ee, ed):
+                    Q, V, KS, DS, TS, en, ek, ee, ed, energy):
     """Fixed-step HHT-α/Newmark from global step ``step0`` over ``nsteps`` steps.
 
     The state (q, v, a, r0: ``qs``, ``vs``, ``accs``, ``r0s``) and the energy accumulators are
     updated in place, so that chunks continue exactly; global step s is saved in row
     s // save_every when s is a multiple of ``save_every``. Returns (steps done, status,
-    offending DOF); t = t0 + s·dt."""
+    offending DOF); t = t0 + s·dt. ``energy``: book the energy terms (:func:`_energy_step`)."""
     n = qs.shape[0]
     ns = sa.shape[0]
     beta = (1.0 + alpha) ** 2 / 4.0
@@ -546,9 +546,10 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
                 break
         if bad >= 0:
             return local - 1, 1, bad
-        _energy_step(t, q, v, dt, C0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc,
-                     closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr,
-                     en, ek, ee, ed, fbuf)
+        if energy:
+            _energy_step(t, q, v, dt, C0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
+                         sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg,
+                         gk, gr, en, ek, ee, ed, fbuf)
         if step % save_every == 0:
             i = step // save_every
             Q[i] = q
@@ -649,6 +650,7 @@ def newmark(
     progress: Callable[[float], None] | None = None,
     chunk_steps: int | None = None,
     control: RunControl | None = None,
+    energy: bool = True,
 ) -> IntegrationResult:
     """Fixed-step Newmark (α = 0, average acceleration) or HHT-α (0 < α ≤ ⅓) integration.
 
@@ -657,8 +659,9 @@ def newmark(
     ``control`` ends the run with status ``interrupted`` and its computed part, and a
     checkpoint of ``control`` gets the full state (``control.resume`` continues from one,
     bit-identically). A divergence (non-finite or |q| > ``q_limit``) stops the run and keeps
-    what was computed. ``energy``: work of the applied forces, dissipated and parametric work,
-    stored energy at start and end (see :func:`_energy_step`).
+    what was computed. ``energy``: book the work of the applied forces, dissipated and
+    parametric work, stored energy at start and end (:func:`_energy_step`, in
+    ``IntegrationResult.energy``; about 1 µs per step of the 19-DOF reclaimer model).
     """
     if not 0.0 <= alpha <= 1.0 / 3.0:
         raise ValueError(f"HHT alpha {alpha} must be in [0, 1/3]")
@@ -681,7 +684,8 @@ def newmark(
           "acc": np.zeros(n), "r0": np.zeros(n), "en": np.zeros(7), "ek": np.zeros(ns),
           "ee": np.zeros(ns), "ed": np.zeros(ns)}
     run_id = {"scheme": "newmark", "nsteps": nsteps, "dt": float(dt), "t0": float(t0),
-              "save_every": save_every, "alpha": float(alpha), "n": n, "ns": ns}
+              "save_every": save_every, "alpha": float(alpha), "n": n, "ns": ns,
+              "energy": int(energy)}
     if ctl.resume is not None:
         done, stored0 = _resume_newmark(ctl.resume, run_id, st, out)
     else:
@@ -704,7 +708,7 @@ def newmark(
         steps, code, bad = _newmark_kernel(
             *args, st["q"], st["v"], st["acc"], st["r0"], t0, dt, done, m, save_every, alpha,
             q_limit, out["Q"], out["V"], out["KS"], out["DS"], out["TS"], st["en"], st["ek"],
-            st["ee"], st["ed"])
+            st["ee"], st["ed"], energy)
         w = time.perf_counter() - w
         if code != 0:
             done += steps
@@ -725,18 +729,18 @@ def newmark(
                     f"{done} of {nsteps}): the computed part is kept")
             break
     rows = done // save_every + 1
-    energy: dict[str, float] = {}
-    if status != "diverged":
+    terms: dict[str, float] = {}
+    if status != "diverged" and energy:
         ke1, pe1 = stored_energy(sys, st["q"], st["v"], st["ek"], st["ed"])
         en = st["en"]
-        energy = {"applied_J": float(en[0]), "dissipated_J": float(en[1]),
+        terms = {"applied_J": float(en[0]), "dissipated_J": float(en[1]),
                   "parametric_J": float(en[2]), "gross_applied_J": float(en[5]),
                   "kinetic_start_J": float(stored0[0]),
                   "potential_start_J": float(stored0[1]), "kinetic_end_J": ke1,
                   "potential_end_J": pe1}
     return IntegrationResult(
         out["TS"][:rows], out["Q"][:rows], out["V"][:rows], out["KS"][:rows],
-        out["DS"][:rows], status, diag, time.perf_counter() - w0, energy,
+        out["DS"][:rows], status, diag, time.perf_counter() - w0, terms,
     )
 
 

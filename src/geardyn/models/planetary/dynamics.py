@@ -21,6 +21,7 @@ from geardyn.errors import InputError
 from geardyn.gears import planet_mesh_phases
 from geardyn.models.planetary.model import PlanetaryModel
 from geardyn.results import finish, shaft_variables
+from geardyn.solve.control import RunControl
 from geardyn.solve.integrate import (
     Drives,
     IntegrationResult,
@@ -286,8 +287,12 @@ def to_dataset(model: PlanetaryModel, res: IntegrationResult, idx: list[int],
 
 def simulate(model: PlanetaryModel, sys: LinearSystem, idx: list[int], q0: np.ndarray,
              v0: np.ndarray, t_end: float, dt: float, save_every: int = 1, alpha: float = 0.0,
-             progress=None, q_limit: float = 1e10) -> xr.Dataset:
-    """Newmark/HHT run of ``sys`` returned as an xarray Dataset (see :func:`to_dataset`)."""
+             progress=None, q_limit: float = 1e10,  # noqa: ANN001
+             control: RunControl | None = None) -> xr.Dataset:
+    """Newmark/HHT run of ``sys`` returned as an xarray Dataset (see :func:`to_dataset`);
+    ``control``: progress, stop requests, checkpoints, resume (:mod:`geardyn.solve.control`).
+    The energy terms of the run are in ``attrs`` (``energy_*``, J)."""
     res = newmark(sys, q0, v0, t_end, dt, save_every=save_every, alpha=alpha,
-                  progress=progress, q_limit=q_limit)
-    return to_dataset(model, res, idx, {"dt_s": dt, "hht_alpha": alpha})
+                  progress=progress, q_limit=q_limit, control=control)
+    return to_dataset(model, res, idx, {"dt_s": dt, "hht_alpha": alpha,
+                                        **{f"energy_{k}": v for k, v in res.energy.items()}})
