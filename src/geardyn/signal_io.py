@@ -117,10 +117,14 @@ def read_signal(
                                  f"from its '{tcol}' column") if tcol else _check_fs(fs, src))
             names = data_cols
         elif ext == ".npy":
-            data = np.load(p, allow_pickle=False)
+            # memory-mapped: a long record is not read whole; float32/float64 data is used as
+            # stored (float32 is exact enough for vibration records: 24-bit mantissa)
+            data = np.load(p, allow_pickle=False, mmap_mode="r")
             data = data.reshape(data.shape[0], -1)
             names = [str(i) for i in range(data.shape[1])]
-            x = data[:, _pick(names, channel, src)].astype(float)
+            x = data[:, _pick(names, channel, src)]
+            if x.dtype not in (np.float32, np.float64) or data.shape[1] > 1:
+                x = np.asarray(x, dtype=float)
             rate_hz = _check_fs(fs, src)
         elif ext == ".npz":
             with np.load(p, allow_pickle=False) as z:
@@ -172,10 +176,15 @@ def read_signal(
         raise InputError(f"signal: cannot read {src}: {exc}") from None
     if x.size < 16:
         raise InputError(f"{src}: signal has {x.size} samples; at least 16 are needed")
-    if not np.all(np.isfinite(x)):
+    if not _all_finite(x):
         raise InputError(f"{src}: signal contains NaN or infinite values")
     return SignalRecord(x, float(rate_hz), names[_pick(names, channel, src)] if names else "x",
                         units, pulses, names)
+
+
+def _all_finite(x: np.ndarray, chunk: int = 1 << 22) -> bool:
+    """All samples finite, checked chunk by chunk (no record-sized temporary)."""
+    return all(bool(np.isfinite(x[a:a + chunk]).all()) for a in range(0, x.shape[0], chunk))
 
 
 def read_pulse_times(path: str | Path) -> np.ndarray:

@@ -25,6 +25,13 @@ from geardyn.cli.common import (
     friendly_errors,
     parse_assignments,
 )
+from geardyn.cli.long_record import (
+    LONG_SAMPLES,
+    block_spectrogram,
+    central_excerpt,
+    chunked_indicators,
+    resample_chunked,
+)
 from geardyn.config import load_config
 from geardyn.errors import InputError
 from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
@@ -175,17 +182,22 @@ def analyze(
                 check_speed_agrees(speeds, rpm, pulses_per_rev)
         freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
         max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
+        long = sim_channel is None and rec.x.shape[0] > LONG_SAMPLES
         if sim_channel is not None:
             angle = ref_angle
             f_ref_max = float(np.max(np.gradient(ref_angle, sim_channel.time))) / (2 * np.pi)
         elif pulses is None:
-            angle = 2 * np.pi * rpm / 60.0 * np.arange(rec.x.size) / rec.fs
+            angle = None if long else 2 * np.pi * rpm / 60.0 * np.arange(rec.x.size) / rec.fs
             f_ref_max = rpm / 60.0
         else:
             angle = None
             f_ref_max = float(np.max(1.0 / np.diff(pulses))) / pulses_per_rev
         spr = samples_per_rev or _choose_spr(max_mesh, rec.fs, f_ref_max)
-        if angle is not None:
+        if long:  # bounded memory: chunked order tracking (cli.long_record)
+            angle_of_time, i0, i1 = _angle_law(rpm, pulses, pulses_per_rev, rec.fs,
+                                               rec.x.shape[0])
+            sig = resample_chunked(rec.x, rec.fs, angle_of_time, spr, i0, i1)
+        elif angle is not None:
             sig = resample_to_angle(rec.x, rec.fs, angle, samples_per_rev=spr)
         else:
             sig = resample_to_angle(rec.x, rec.fs, pulse_times=pulses,
@@ -201,15 +213,25 @@ def analyze(
                 )
         start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
         nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
-        spectrogram = stft(rec.x, rec.fs, nperseg=nper)
         label = f"{signal.name} ({rec.x.size} samples at {rec.fs:g} Hz)"
-        t_s = np.arange(rec.x.size) / rec.fs
-        if angle is not None:
-            samples = (rec.x, t_s, angle)
+        if long:
+            spectrogram = block_spectrogram(rec.x, rec.fs, nper)
+            e0, e1 = central_excerpt(i0, i1)
+            t_e = np.arange(e0, e1) / rec.fs
+            samples = (np.asarray(rec.x[e0:e1], dtype=float), t_e, angle_of_time(t_e))
+            console.print(f"[yellow]note:[/] long record: per-component indicators from its "
+                          f"central {t_e[0]:.6g}–{t_e[-1]:.6g} s ({e1 - e0} samples); order "
+                          "spectrum, TSA and raw indicators from the whole record")
         else:
-            inside = (t_s >= pulses[0]) & (t_s <= pulses[-1])
-            samples = (rec.x[inside], t_s[inside],
-                       angle_from_pulses(pulses, t_s[inside], pulses_per_rev))
+            spectrogram = stft(rec.x, rec.fs, nperseg=nper)
+        if not long:
+            t_s = np.arange(rec.x.size) / rec.fs
+            if angle is not None:
+                samples = (rec.x, t_s, angle)
+            else:
+                inside = (t_s >= pulses[0]) & (t_s <= pulses[-1])
+                samples = (rec.x[inside], t_s[inside],
+                           angle_from_pulses(pulses, t_s[inside], pulses_per_rev))
         if sim_channel is not None:
             label = f"channel '{sim_channel.name}' of {label}"
 
@@ -239,7 +261,9 @@ def analyze(
         omax = min(xmax, float(order_map["order"].values[-1]))
         figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map")
         figs["waterfall.png"] = plot_waterfall(order_map, ymax=omax, title="Waterfall")
-    rows = [{"signal": "raw", "component": "", "kind": "", **signal_indicators(raw)}]
+    raw_indicators = (chunked_indicators(raw) if raw.shape[0] > LONG_SAMPLES
+                      else signal_indicators(raw))
+    rows = [{"signal": "raw", "component": "", "kind": "", **raw_indicators}]
     if x_ang.size - start >= spr:
         avg = tsa(x_ang[start:], spr)
         figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)")
@@ -265,6 +289,21 @@ def analyze(
     console.print("largest orders: " + ", ".join(f"{o:.4g} ({a:.3g})" for o, a in top.items()))
     console.print(f"wrote {', '.join(sorted(figs))}, indicators.csv, markers.csv, "
                   f"order_spectrum.nc to {out}/")
+
+
+def _angle_law(rpm: float, pulses: np.ndarray | None, pulses_per_rev: int, fs: float,
+               n: int):  # noqa: ANN202 - (angle of time, first sample, end sample)
+    """The reference angle [rad] as a function of time [s] (constant speed, or the pulse
+    spline of :func:`geardyn.signal.resample.angle_from_pulses`) and the sample range it
+    covers."""
+    from geardyn.signal.resample import angle_from_pulses
+
+    if pulses is None:
+        w = 2 * np.pi * rpm / 60.0
+        return (lambda t: w * t), 0, n
+    i0 = max(0, math.ceil(pulses[0] * fs))
+    i1 = min(n, math.floor(pulses[-1] * fs) + 1)
+    return (lambda t: angle_from_pulses(pulses, t, pulses_per_rev)), i0, i1
 
 
 def check_tacho_span(pulses: np.ndarray, n: int, fs: float, origin: str) -> None:
