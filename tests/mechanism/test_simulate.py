@@ -42,7 +42,7 @@ def _generic_drive(d: dict) -> dict:
     d["dynamics"] = {
         "module_m": 0.005,
         "simulation": {
-            "t_end_s": 0.1, "dt_s": 5e-5, "save_every": 10,
+            "t_end_s": 0.1, "dt_s": 2e-5, "save_every": 10,
             "initial_speed_rpm": inputs,
             "speed_controls": [{"body": x, "profile_rpm": [[0.0, w], [100.0, w]],
                                 "stiffness_nm_per_rad": 1e5, "damping_nms_per_rad": 2e2}

@@ -154,7 +154,12 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
                             sim.contact_loss)
 
     orient_meshes(model, build(), v0)
-    return Prepared(model, build(), np.zeros(model.n), v0, t_end, sim)
+    system = build()
+    from geardyn.solve.sanity import check_time_step, mesh_period, shortest_period
+
+    check_time_step(sim.dt_s, f"{WHERE}.dt_s", shortest_period(system),
+                    mesh_period(system, [v0]))
+    return Prepared(model, system, np.zeros(model.n), v0, t_end, sim)
 
 
 def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> None:
