@@ -423,7 +423,7 @@ def _dissipated_power(v, C0, sa, sc, closs, dout):
 
 
 @nb.njit(cache=True)
-def _energy_step(t, q, v, dt, C0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+def _energy_step(t, q, v, dt, C0, sa, sc, closs, kout, eout,
                  dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr,
                  en, ek, ee, ed, fbuf):
     """Energy accumulators over one step ending at state (q, v, t).
@@ -431,26 +431,22 @@ def _energy_step(t, q, v, dt, C0, sa, sb, sx0, ktab, klen, kper, etab, elen, epe
     ``en`` = [applied work, dissipated work, parametric work, applied power, dissipated power,
     gross applied work ∫Σ|F_j v_j|, gross applied power] (powers at the previous state);
     ``ek``, ``ee``, ``ed`` = k, e, δ of each variable spring at the previous state, updated to
-    the new one. Trapezoidal rule for the powers; the parametric work of a spring (stiffness
-    and error varying with the mesh position) over the step is ½Δk·(δ₀² + δ₁²)/2 + k̄ δ̄ Δe, so
-    that with the spring work k̄ δ̄ aᵀΔq it adds up
-    exactly to Δ(½kδ²)."""
+    the new one: k and e are those the step used (``kout``, ``eout``, at the Newmark
+    predictor), δ = aᵀq + e. Trapezoidal rule for the powers; the parametric work of a spring
+    (stiffness and error varying with the mesh position) over the step is
+    ½Δk·(δ₀² + δ₁²)/2 + k̄ δ̄ Δe, so that with the spring work k̄ δ̄ aᵀΔq it adds up exactly to
+    Δ(½kδ²) for any sequence of k and e."""
     pa, pg = _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
                             gg, gk, gr, fbuf)
     ns = sa.shape[0]
     n = q.shape[0]
     wp = 0.0
     for e in range(ns):
-        x = sx0[e]
-        d = 0.0
+        er = eout[e]
+        d = er
         for j in range(n):
-            x += sb[e, j] * q[j]
             d += sa[e, j] * q[j]
-        k = _periodic(x, ktab[e], klen[e], kper[e])
-        er = _periodic(x, etab[e], elen[e], eper[e])
-        d += er
-        if closs[e] == 1 and d < 0.0:
-            k = 0.0
+        k = kout[e]
         wp += 0.25 * (k - ek[e]) * (d * d + ed[e] * ed[e]) + 0.25 * (k + ek[e]) * (
             d + ed[e]) * (er - ee[e])
         ek[e] = k
@@ -547,9 +543,8 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
         if bad >= 0:
             return local - 1, 1, bad
         if energy:
-            _energy_step(t, q, v, dt, C0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
-                         sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg,
-                         gk, gr, en, ek, ee, ed, fbuf)
+            _energy_step(t, q, v, dt, C0, sa, sc, closs, kout, eout, dk, da, db, dha, dhb,
+                         dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr, en, ek, ee, ed, fbuf)
         if step % save_every == 0:
             i = step // save_every
             Q[i] = q
@@ -661,7 +656,7 @@ def newmark(
     bit-identically). A divergence (non-finite or |q| > ``q_limit``) stops the run and keeps
     what was computed. ``energy``: book the work of the applied forces, dissipated and
     parametric work, stored energy at start and end (:func:`_energy_step`, in
-    ``IntegrationResult.energy``; about 1 µs per step of the 19-DOF reclaimer model).
+    ``IntegrationResult.energy``; about 0.3 µs per step, 5 %, on the reclaimer model).
     """
     if not 0.0 <= alpha <= 1.0 / 3.0:
         raise ValueError(f"HHT alpha {alpha} must be in [0, 1/3]")
