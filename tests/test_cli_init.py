@@ -154,3 +154,51 @@ def test_units_in_config_strings(tmp_path):
     c = load_config(cfg)
     assert c.gear_geometry[0].normal_module_m == pytest.approx(0.003)
     assert c.input_speeds_rpm["input"] == pytest.approx(1500.0)
+
+
+def _numeric_fields():
+    import typing
+
+    from pydantic import BaseModel
+
+    from geardyn.config import GeardynConfig
+
+    seen, out = set(), []
+
+    def walk(model):
+        if model in seen:
+            return
+        seen.add(model)
+        for name, field in model.model_fields.items():
+            def sub(t):
+                if isinstance(t, type) and issubclass(t, BaseModel):
+                    walk(t)
+                for a in typing.get_args(t):
+                    sub(a)
+            sub(field.annotation)
+            text = str(field.annotation)
+            if ("float" in text or "int" in text) and "BaseModel" not in text:
+                out.append((model.__name__, name))
+
+    walk(GeardynConfig)
+    return out
+
+
+def test_every_unit_suffix_of_the_models_is_known():
+    """Every numeric field whose name ends in a unit-like token carries a suffix of
+    config.units.SUFFIXES (so "3 mm" strings convert and magnitudes are checked)."""
+    from geardyn.config.units import SUFFIXES, field_suffix
+
+    unit_like = {"mm", "cm", "um", "km", "g", "mpa", "gpa", "kpa", "kn", "knm", "khz", "ms",
+                 "min", "h", "rads", "degs", "mm2", "nmm", "kw", "bar", "mps"}
+    fields = _numeric_fields()
+    assert len(fields) > 100
+    unknown = [f"{m}.{n}" for m, n in fields if n.rsplit("_", 1)[-1] in unit_like]
+    assert not unknown, f"add these unit suffixes to config.units.SUFFIXES: {unknown}"
+    used = {field_suffix(n)[0] for _, n in fields if field_suffix(n)}
+    assert {"_m", "_deg", "_rpm", "_s", "_hz", "_kg", "_kgm2", "_n_per_m", "_nm",
+            "_pa"} <= used
+    for suffix, info in SUFFIXES.items():  # each unit parses and has the stated dimension
+        from geardyn.config.units import to_unit
+
+        assert to_unit(f"2 {info.unit}", info.unit, info.what) == pytest.approx(2.0), suffix

@@ -93,14 +93,18 @@ def read_signal(
         if ext == ".wav":
             from scipy.io import wavfile
 
-            rate, data = wavfile.read(p)
-            data = np.asarray(data)
-            if np.issubdtype(data.dtype, np.integer):
-                data = data.astype(float) / float(np.iinfo(data.dtype).max + 1)
-            data = data.reshape(data.shape[0], -1).astype(float)
+            try:  # memory-mapped: only the chosen channel is converted (float32)
+                rate, data = wavfile.read(p, mmap=True)
+            except ValueError:  # formats that cannot be mapped (e.g. 24-bit PCM)
+                rate, data = wavfile.read(p)
+            data = data.reshape(data.shape[0], -1)
             names = [str(i) for i in range(data.shape[1])]
             i = _pick(names, channel, src)
             x, rate_hz = data[:, i], float(rate)
+            if np.issubdtype(x.dtype, np.integer):
+                x = x.astype(np.float32) / np.float32(np.iinfo(x.dtype).max + 1)
+            else:
+                x = np.asarray(x, dtype=float)
             _agree_fs(fs, rate_hz, src, "WAV header")
         elif ext in (".csv", ".txt"):
             import pandas as pd
