@@ -20,6 +20,9 @@ from geardyn.cli import app
 from geardyn.cli.common import check_number, check_output_dir, console, friendly_errors
 from geardyn.errors import ConfigError, InputError
 
+#: Widest table printed (characters); wider verdict tables wrap their text columns.
+TABLE_WIDTH = 100
+
 _STYLE = {"alarm": "bold red", "healthy": "green", "unknown": "dim"}
 
 
@@ -54,6 +57,8 @@ def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verd
                   f"[{_STYLE[r['state']]}]{r['state']}[/]", escape(str(r["worst_indicator"])),
                   _number(r["margin"]), escape(str(r["isolation"])),
                   _number(r["isolation_margin"]))
+    if console.measure(t).maximum > TABLE_WIDTH:  # wrap the text columns, fit 100 columns
+        t.width = TABLE_WIDTH
     console.print(t)
     for note in verdict.notes:
         console.print(f"[dim]note: {escape(note)}[/]")
