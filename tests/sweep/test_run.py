@@ -156,27 +156,40 @@ def test_worker_killed_mid_case_is_retried(reference: Path, spec_path: Path,
     cluster.wait_for_workers(2, timeout=120)  # the nanny restarted it
 
 
-def test_sigint_to_driver_then_resume(reference: Path, spec_path: Path, cluster,  # noqa: ANN001
-                                      tmp_path: Path) -> None:
-    out = tmp_path / "interrupted.zarr"
-    exe = Path(sys.executable).parent / "geardyn"
-    cmd = [str(exe), "sweep", str(spec_path), "--out", str(out), "--scheduler",
-           cluster.scheduler.address]
+def _start_and_signal(cmd: list[str], out: Path, sig: int, n_ok: int
+                      ) -> tuple[int, str, str]:
+    """Run ``cmd``, send ``sig`` to its process group once ``n_ok`` cases are stored."""
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     t0 = time.perf_counter()
     while time.perf_counter() - t0 < 120 and proc.poll() is None:
-        if out.exists() and "ok" in set(statuses(out)):
+        if out.exists() and list(statuses(out)).count("ok") >= n_ok:
             break
         time.sleep(0.05)
-    os.killpg(proc.pid, signal.SIGINT)  # as Ctrl-C in a terminal: the process group
-    out_text, err = proc.communicate(timeout=120)
-    done = list(statuses(out))  # readable after the interrupt
-    assert proc.returncode in (130, 0), err
-    if proc.returncode == 130:
+    os.killpg(proc.pid, sig)  # SIGINT: as Ctrl-C in a terminal, to the process group
+    text, err = proc.communicate(timeout=120)
+    return proc.returncode, text, err
+
+
+def test_killed_then_interrupted_driver_resumes(reference: Path, spec_path: Path,
+                                                cluster, tmp_path: Path) -> None:  # noqa: ANN001
+    """kill -9 of the driver, then the same command again and a Ctrl-C, then the same command
+    once more: every case exactly once, values as the uninterrupted sweep."""
+    out = tmp_path / "interrupted.zarr"
+    exe = Path(sys.executable).parent / "geardyn"
+    cmd = [str(exe), "sweep", str(spec_path), "--out", str(out), "--scheduler",
+           cluster.scheduler.address]
+    code, _, _ = _start_and_signal(cmd, out, signal.SIGKILL, 1)
+    assert code == -signal.SIGKILL
+    after_kill = list(statuses(out))  # readable after kill -9
+    assert after_kill.count("ok") >= 1
+    code, text, err = _start_and_signal(cmd, out, signal.SIGINT, after_kill.count("ok") + 1)
+    done = list(statuses(out))
+    assert code in (130, 0), err
+    if code == 130:
         assert "interrupted" in err and "Traceback" not in err, err
-        assert "run the same command again" in out_text
-    assert "ok" in done
+        assert "run the same command again" in text
+    assert done.count("ok") > after_kill.count("ok")
     summary = run(spec_path, out, client=cluster)  # the same command again: resumes
     assert summary.skipped == done.count("ok") and summary.run == 6 - summary.skipped
     assert_same_store(reference, out)

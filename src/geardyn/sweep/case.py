@@ -82,12 +82,15 @@ def _states(ds: Any, names: list[str], step_s: float, n: int | None) -> dict[str
 def _indicators(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
     """Per-block indicator table of the channel (geardyn.diagnosis.features) as an array
     (component, indicator, block) and the component kinds."""
-    from geardyn.diagnosis.pipeline import _channel, _features, options
+    from geardyn.diagnosis.features import features_from_result
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.results import channel, channels
 
     o = options(cfg, channel=opts.get("channel"), skip_s=opts.get("skip_s"),
                 blocks=opts.get("blocks"))
-    ch = _channel(ds, o.channel, "case")
-    table = _features(ds, cfg, ch, o).table
+    ch = channel(ds, o.channel).name if o.channel else channels(ds)[0]
+    table = features_from_result(ds, cfg, ch, reference=o.reference, skip_s=o.skip_s,
+                                 n_blocks=o.blocks).table
     comps = list(dict.fromkeys(str(c) for c in table["component"]))
     inds = list(dict.fromkeys(str(c) for c in table["indicator"]))
     arr = np.full((len(comps), len(inds), o.blocks), np.nan)

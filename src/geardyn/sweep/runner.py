@@ -141,7 +141,7 @@ def _client(scheduler: str | None, n_workers: int | None) -> Iterator[Any]:
     with dask.config.set({"distributed.nanny.pre-spawn-environ": env,
                           "distributed.worker.preload": preload}):
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.CRITICAL)
+                               dashboard_address=":0", silence_logs=logging.CRITICAL)
         client = Client(cluster)
         try:
             yield client
