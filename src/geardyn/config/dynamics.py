@@ -107,6 +107,10 @@ class DynamicsSimulation(_M):
     contact_loss: bool = Field(False, description="mesh force 0 when the deflection is < 0")
     rayleigh_alpha: float = Field(0.0, ge=0, description="C += α M (1/s)")
     rayleigh_beta: float = Field(0.0, ge=0, description="C += β K_mean (s)")
+    initial_state: Literal["rest", "static"] = Field(
+        "rest", description="rest: undeformed, rigid-body speeds; static: deflected by the "
+        "initial loads (quasi-static, the rigid-body acceleration removed): starts close to "
+        "the steady state, without the start transient")
     initial_speed_rpm: dict[str, float] = Field(
         default_factory=dict, description="rigid-body initial speeds (body → rpm); the "
         "kinematics gives the other links")

@@ -270,14 +270,12 @@ def _inertias(graph: MechanismGraph, spec: Dynamics, sizes: dict[str, PairSize],
         if g is not None:
             if g.orbit_radius_m is not None:
                 orbit[link] = g.orbit_radius_m
-            if blank is None and g.inertia_kgm2 is None:
-                blank = None  # type: ignore[assignment]
-            elif g.inertia_kgm2 is not None:
+            if g.inertia_kgm2 is not None:
                 j = g.inertia_kgm2
                 mass = g.mass_kg if g.mass_kg is not None else (blank.mass if blank else 0.0)
                 jd = g.diametral_inertia_kgm2 if g.diametral_inertia_kgm2 is not None else j / 2
                 blank = Blank(mass, j, jd)
-            else:
+            elif blank is not None:
                 blank = Blank(g.mass_kg if g.mass_kg is not None else blank.mass, blank.inertia,
                               g.diametral_inertia_kgm2 if g.diametral_inertia_kgm2 is not None
                               else blank.diametral)

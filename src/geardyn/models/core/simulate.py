@@ -88,7 +88,11 @@ def drive_rows(model: CoreModel, sim: DynamicsSimulation, t_end: float
         t_pad = 1.01 * t_end + 1e-3
         if ts[-1] < t_pad:
             ts, rpm = np.append(ts, t_pad), np.append(rpm, rpm[-1])
+        # held 1 s before t = 0 too, with θ_ref(0) = 0: the kernel's reference speed is a
+        # central difference over ±h that a table starting at 0 would halve for t < h
+        ts, rpm = np.insert(ts, 0, ts[0] - 1.0), np.insert(rpm, 0, rpm[0])
         tt, th = reference_angle_table(ts, rpm * RPM)
+        th = th - np.interp(0.0, tt, th)
         drives.append(dict(kind=SPEED_CONTROL, a=j, p0=sc.stiffness_nm_per_rad,
                            p1=sc.damping_nms_per_rad, x=tt, y=th))
     if sim.motor:
@@ -153,16 +157,17 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
         return model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
                             sim.contact_loss)
 
-    orient_meshes(model, build(), v0)
+    q_static = orient_meshes(model, build(), v0)
     system = build()
     from geardyn.solve.sanity import check_time_step, mesh_period, shortest_period
 
     check_time_step(sim.dt_s, f"{WHERE}.dt_s", shortest_period(system),
                     mesh_period(system, [v0]))
-    return Prepared(model, system, np.zeros(model.n), v0, t_end, sim)
+    q0 = q_static if sim.initial_state == "static" else np.zeros(model.n)
+    return Prepared(model, system, q0, v0, t_end, sim)
 
 
-def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> None:
+def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> np.ndarray:
     """Orient every mesh so that its deflection is positive on the flank loaded by the
     initial drive torques (contact loss, seed 004 eq 3.2, is δ < 0; mesh forces come out
     positive under load).
@@ -170,15 +175,16 @@ def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> Non
     Quasi-static deflection under the initial loads f = F − C v₀ (drives, torques): the rigid
     part of f accelerates the rigid-body modes (Φ mass-normalised null space of K + speed-control
     stiffness), the rest deflects the springs, K q = f − M Φ Φᵀ f. A mesh with aᵀq < 0 has
-    its row (and error table) negated; unloaded meshes keep their sign.
+    its row (and error table) negated; unloaded meshes keep their sign. Returns q (the
+    ``initial_state = "static"`` start).
     """
     from geardyn.solve.integrate import reference_rhs
 
     n = model.n
+    d = system.drives
     acc = reference_rhs(system)(0.0, np.concatenate([np.zeros(n), v0]))[n:]
     f = system.M @ acc
     k = model.stiffness_matrix()
-    d = system.drives
     for i in range(d.kind.shape[0]):
         if d.kind[i] == SPEED_CONTROL:
             k[d.a[i], d.a[i]] += d.p0[i] * d.ha[i] ** 2
@@ -194,6 +200,7 @@ def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> Non
         if delta < -1e-12 * max(float(np.abs(m.a).max()) * float(np.abs(q).max()), 1e-300):
             m.a = -m.a
             m.e = -m.e
+    return q
 
 
 def integrate(p: Prepared, progress: Callable[[float], None] | None = None
