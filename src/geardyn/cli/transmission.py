@@ -53,6 +53,9 @@ def transmission_cmd(
     if revolutions is not None and not (math.isfinite(revolutions) and revolutions > 0):
         raise InputError(f"--revolutions: must be a finite number > 0, got {revolutions:g}")
     check_run_options(checkpoint_every)
+    if (checkpoint_every is not None or resume) and netcdf is None:
+        raise InputError("--checkpoint-every/--resume need --netcdf (the checkpoint is written "
+                         "next to it)")
     if netcdf is not None:
         check_output(netcdf, "--netcdf", overwrite=force or resume)
     cfg = load_config(config)
