@@ -3,8 +3,9 @@
 Same result object as the planetary model (:class:`geardyn.solve.modal.ModalResult`):
 frequencies (Hz), mass-normalised shapes, multiplicities, kinetic energy per DOF
 Ec_k = ½ ω² φ_k (Mφ)_k and strain energy per element Ep_e = ½ k_e (a_eᵀφ)² (seed 003 eqs
-3.28-3.29). Mode types: ``rigid`` below ``zero_hz`` (the kinematic nullspace, seed 000 eq 5),
-else ``torsional``.
+3.28-3.29). Mode types: ``rigid`` below ``zero_hz`` (the kinematic nullspace, seed 000
+eq 5), else by the share of the mass-weighted shape in lateral DOFs (x, y, ζ, η):
+``torsional`` (< 0.1 %), ``lateral`` (> 99.9 %) or ``coupled``.
 """
 
 from __future__ import annotations
@@ -30,9 +31,15 @@ def core_modes(model: CoreModel, rtol: float = 1e-6, atol_hz: float = 1e-3,
         if i == len(freq) or abs(freq[i] - freq[start]) > max(atol_hz, rtol * freq[i]):
             mult[start:i] = i - start
             start = i
-    types = ["rigid" if f == 0.0 else "torsional" for f in freq]
     w2v = (2 * np.pi * freq) ** 2
     kinetic = 0.5 * w2v[:, None] * (phi * (mm @ phi)).T
+    share = (phi * (mm @ phi)).T  # mass-weighted participation per DOF, rows sum to 1
+    lateral = np.array([nm.endswith((".x", ".y", ".zeta", ".eta")) for nm in model.dof_names])
+    types = []
+    for i, f in enumerate(freq):
+        lat = float(share[i, lateral].sum()) if lateral.any() else 0.0
+        types.append("rigid" if f == 0.0 else "torsional" if lat < 1e-3
+                     else "lateral" if lat > 1 - 1e-3 else "coupled")
     rows = [m.a for m in model.meshes] + [s.a for s in model.springs]
     k = np.array([m.k_mean for m in model.meshes] + [s.k for s in model.springs])
     a = np.array(rows).reshape(len(rows), model.n)

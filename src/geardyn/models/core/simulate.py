@@ -242,6 +242,12 @@ def to_dataset(model: CoreModel, res: IntegrationResult, reference: str,
     rot = model.rotation_matrix()
     ds = ds.assign(shaft_variables(res.t, names, res.q @ rot.T, res.v @ rot.T))
     ds = ds.assign_coords(shaft=names)
+    bearings = [s for s in model.springs if s.kind == "bearing"]
+    if bearings:  # lateral model: force k aᵀq of every bearing spring (one per direction)
+        a = np.array([s.a for s in bearings])
+        k = np.array([s.k for s in bearings])
+        ds["bearing_force"] = (("time", "bearing"), (res.q @ a.T) * k, {"units": "N"})
+        ds = ds.assign_coords(bearing=[s.name for s in bearings])
     return finish(ds, "mechanism", reference if reference in names else names[0])
 
 
