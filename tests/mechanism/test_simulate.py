@@ -157,3 +157,26 @@ def test_static_start_begins_at_the_steady_state(examples_dir):
     assert _final_ratio_error(d, 0.2) < 1e-6
     d["dynamics"]["simulation"]["initial_state"] = "rest"
     assert _final_ratio_error(d, 0.2) > 1e-5
+
+
+def test_bucket_wheel_inertia_schedule(examples_dir):
+    """wheel_load.inertia_schedule: the carrier's diagonal mass follows seed 004 inertiaC —
+    empty wheel 92926 kg·m² plus Olcc = 3·0.8 + 0.6 + 0.1 = 3.1 ore bucket-loads of
+    16312 kg·m² at full digging (Table 6-4, eq 6.16); the planets' orbit terms are kept."""
+    from geardyn.operating import BucketWheelSchedule
+
+    d = _load(examples_dir, "reclaimer_whole_drive")
+    d["dynamics"]["simulation"]["wheel_load"]["inertia_schedule"] = True
+    p = prepare(parse_config(d), 0.05)
+    ms = p.system.mass_schedule
+    j = p.model.dof_names.index("bucket_wheel.theta")
+    assert list(ms.dof) == [j]
+    th = ms.tx[0, : ms.tlen[0]]
+    ore = BucketWheelSchedule().ore(th)
+    k = int(np.argmax(ore))
+    assert ore[k] == pytest.approx(3.1, rel=1e-3)  # Olcc on the table's angle grid
+    orbit = p.model.M[j, j] - 92926.0
+    assert orbit > 0
+    assert ms.ty[0, k] == pytest.approx(orbit + 92926.0 + 16312.0 * ore[k], rel=1e-12)
+    assert ms.ty[0, 0] == pytest.approx(p.model.M[j, j], rel=1e-12)  # empty at the start
+    assert integrate(p).status == "ok"

@@ -155,9 +155,11 @@ class CoreModel:
 
     def system(self, rayleigh: tuple[float, float] = (0.0, 0.0), drives: list[dict] | None = None,
                force_t: np.ndarray | None = None, force: np.ndarray | None = None,
-               contact_loss: bool = False) -> LinearSystem:
+               contact_loss: bool = False, mass_schedule: MassSchedule | None = None
+               ) -> LinearSystem:
         """Integrator system: M, C₀ (shafts + Rayleigh on K_mean), K₀ (linear elements) and the
-        meshes as variable springs carrying their own damping."""
+        meshes as variable springs carrying their own damping; ``mass_schedule`` optional
+        (M_ii as a function of an angle, e.g. the bucket wheel's ore load)."""
         c0 = rayleigh[0] * self.M + rayleigh[1] * self.stiffness_matrix()
         for s in self.springs:
             c0 += s.c * np.outer(s.a, s.a)
@@ -167,6 +169,6 @@ class CoreModel:
             Drives.build(drives or []),
             np.zeros(0) if force_t is None else np.asarray(force_t, float),
             np.zeros((0, n)) if force is None else np.asarray(force, float),
-            MassSchedule(), list(self.dof_names),
+            mass_schedule or MassSchedule(), list(self.dof_names),
             gyro_g=np.zeros((0, n, n)), gyro_k=np.zeros((0, n, n)), gyro_rate=np.zeros((0, n)),
         )

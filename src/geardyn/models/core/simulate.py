@@ -36,6 +36,7 @@ from geardyn.solve.integrate import (
     SPEED_TORQUE,
     IntegrationResult,
     LinearSystem,
+    MassSchedule,
 )
 
 WHERE = "dynamics.simulation"
@@ -70,8 +71,9 @@ def _held(points: object, t_end: float, field: str, unit: str) -> tuple[np.ndarr
 
 
 def drive_rows(model: CoreModel, sim: DynamicsSimulation, t_end: float
-               ) -> tuple[list[dict], np.ndarray, np.ndarray]:
-    """Torque elements, force-table times (s) and forces (N·m per coordinate)."""
+               ) -> tuple[list[dict], np.ndarray, np.ndarray, MassSchedule | None]:
+    """Torque elements, force-table times (s), forces (N·m per coordinate) and the bucket
+    wheel's inertia schedule (or None)."""
     drives: list[dict] = []
     profiles = {i: _held(t.profile, t_end, f"{WHERE}.torques[{i}].profile", "N·m")
                 for i, t in enumerate(sim.torques) if t.profile}
@@ -110,11 +112,9 @@ def drive_rows(model: CoreModel, sim: DynamicsSimulation, t_end: float
             jb = _dof(model, mo.coupling_to, f"{WHERE}.motor.coupling_to")
             drives.append(dict(kind=FLUID_COUPLING, a=j, b=jb, p0=mo.coupling_q,
                                p1=mo.coupling_ratio))
+    schedule = None
     if sim.wheel_load:
         wl = sim.wheel_load
-        if wl.inertia_schedule:
-            raise ConfigError(f"{WHERE}.wheel_load.inertia_schedule: not supported by the "
-                              "[dynamics] model (give the bucket wheel as a rotor)")
         j = _dof(model, wl.body, f"{WHERE}.wheel_load.body")
         sch = BucketWheelSchedule()
         th = np.linspace(0, sch.points()["P47"] + 1.0, 4001)
@@ -122,7 +122,14 @@ def drive_rows(model: CoreModel, sim: DynamicsSimulation, t_end: float
         w_ref = wl.control_ratio * wl.rated_speed_rpm / wl.gear_ratio * RPM
         drives.append(dict(kind=SPEED_SQUARED_LOAD, a=j,
                            p0=wl.full_load_torque_nm * wl.gear_ratio / w_ref**2, x=th, y=fac))
-    return drives, t_grid, force
+        if wl.inertia_schedule:
+            # seed 004 inertiaC: empty wheel + ore bucket-loads vs carrier angle, replacing the
+            # link's own inertia on its diagonal (planets' orbit terms kept)
+            jj = wl.empty_inertia_kgm2 + wl.ore_inertia_kgm2 * sch.ore(th)
+            extra = model.M[j, j] - model.body(wl.body).inertia
+            schedule = MassSchedule(np.array([j]), np.array([j]), np.array([1.0]), th[None, :],
+                                    (extra + jj)[None, :], np.array([len(th)]))
+    return drives, t_grid, force, schedule
 
 
 def rigid_velocity(model: CoreModel, speeds_rpm: dict[str, float]) -> np.ndarray:
@@ -150,12 +157,12 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
     if not (math.isfinite(t_end) and t_end > 0):
         raise InputError(f"t_end_s: the run end must be a finite time > 0 s (got {t_end_s!r})")
     model = model_from_config(cfg)
-    drives, t_grid, force = drive_rows(model, sim, t_end)
+    drives, t_grid, force, schedule = drive_rows(model, sim, t_end)
     v0 = rigid_velocity(model, dict(sim.initial_speed_rpm))
 
     def build() -> LinearSystem:
         return model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
-                            sim.contact_loss)
+                            sim.contact_loss, schedule)
 
     q_static = orient_meshes(model, build(), v0)
     system = build()
