@@ -77,10 +77,16 @@ def _number_callback(previous: Any, rule: tuple[str, float] | None) -> Any:
     return check
 
 
+#: Commands that validate their numeric options themselves, as the config fields they
+#: override (the message names both): no generic range check at parse time.
+SELF_VALIDATING = {"diagnose"}
+
+
 def _finish(cmd: Any) -> Any:
     """Escape the help texts and make every float option refuse non-finite numbers."""
     if getattr(cmd, "_geardyn_finished", False):
         return cmd
+    checked = cmd.name not in SELF_VALIDATING
     cmd.help = escape_markup(cmd.help)
     cmd.short_help = escape_markup(cmd.short_help)
     for param in cmd.params:
@@ -89,7 +95,7 @@ def _finish(cmd: Any) -> Any:
         annotation = str(getattr(getattr(param, "type_descriptor", None), "annotation", ""))
         rule = next((OPTION_RULES[o] for o in getattr(param, "opts", []) if o in OPTION_RULES),
                     None)
-        if "float" in annotation or ("int" in annotation and rule is not None):
+        if checked and ("float" in annotation or ("int" in annotation and rule is not None)):
             param.callback = _number_callback(param.callback, rule)
     cmd._geardyn_finished = True
     return cmd

@@ -17,7 +17,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from geardyn.cli import app
-from geardyn.cli.common import check_number, check_output_dir, console, friendly_errors
+from geardyn.cli.common import console, friendly_errors
 from geardyn.errors import ConfigError, InputError
 
 #: Widest table printed (characters); wider verdict tables wrap their text columns.
@@ -72,6 +72,21 @@ def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verd
     console.print(f"wrote {out / 'verdict.json'} and report {out / 'report.html'}")
 
 
+def _check_skip(cfg, skip: float | None, t_end: float | None) -> None:  # noqa: ANN001
+    """The discarded start (--skip / diagnosis.skip_s) must be shorter than the planetary run
+    (--t-end / diagnosis.t_end_s / the simulation's t_end_s), checked before any run."""
+    spec = getattr(cfg, "diagnosis", None)
+    skip_s = skip if skip is not None else (spec.skip_s if spec is not None else 0.0)
+    pd = getattr(cfg, "planetary_dynamics", None)
+    sim_end = pd.simulation.t_end_s if pd is not None and pd.simulation is not None else None
+    end = t_end if t_end is not None else (
+        spec.t_end_s if spec is not None and spec.t_end_s is not None else sim_end)
+    if end is not None and end > 0 and skip_s is not None and math.isfinite(skip_s) \
+            and skip_s >= end:
+        raise InputError(f"--skip (diagnosis.skip_s): the discarded start {skip_s:g} s must be "
+                         f"shorter than the run ({end:g} s, --t-end / diagnosis.t_end_s)")
+
+
 @app.command("diagnose")
 @friendly_errors
 def diagnose_cmd(
@@ -108,22 +123,8 @@ def diagnose_cmd(
     from geardyn.diagnosis.pipeline import check_output_dir as make_output_dir
     from geardyn.diagnosis.pipeline import diagnose, diagnose_files
 
-    check_number(k, "--k", gt=0, le=1e3)
-    check_number(sigma_floor, "--sigma-floor", ge=0, le=1)
-    check_number(blocks, "--blocks", ge=1, le=64)
-    check_number(skip, "--skip", ge=0, le=1e7, unit="s")
-    check_number(t_end, "--t-end", gt=0, le=1e7, unit="s")
-    check_number(revolutions, "--revolutions", gt=0, le=1e7)
-    check_number(record_seed, "--record-seed", ge=0)
-    for seed in parse_seeds(seeds) or []:
-        check_number(seed, "--seeds", ge=0)
-    if skip is not None and t_end is not None and skip >= t_end:
-        raise InputError(f"--skip: the discarded start {skip:g} s must be shorter than --t-end "
-                         f"{t_end:g} s")
-    for path, option in [(p, "--baseline") for p in baseline or []] + [(record, "--record")]:
-        if path is not None and not path.is_file():
-            raise InputError(f"{option}: file '{path}' does not exist")
-    check_output_dir(out, "--out")
+    # --k, --skip, --seeds… are validated as the [diagnosis] fields they override (the
+    # message names the field and the option) and --out by make_output_dir, before any run
     if bool(baseline) != (record is not None):
         raise InputError("--baseline and --record go together: give healthy result file(s) "
                          "and the record to judge, or neither (simulate both)")
@@ -131,6 +132,8 @@ def diagnose_cmd(
     problems = sensor_name_problems(cfg)
     if problems:
         raise ConfigError(problems, source=str(config))
+    if record is None:  # simulated runs: their length is known before they start
+        _check_skip(cfg, skip, t_end)
     make_output_dir(out)
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as prog:
