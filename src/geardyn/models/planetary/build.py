@@ -452,6 +452,9 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
         t_pad = 1.01 * t_end + 1e-3  # the kernel takes dθ_ref/dt over ±1e-6·span at t_end too
         if ts[-1] < t_pad:
             ts, rpm = np.append(ts, t_pad), np.append(rpm, rpm[-1])
+        if ts[0] > -1e-3:  # ... and at t = 0: without a point before 0 the clamped table
+            # halves ω_ref for t < 1e-6·span (a speed kick at the start of long tables)
+            ts, rpm = np.insert(ts, 0, ts[0] - 1e-3 - 0.01 * t_end), np.insert(rpm, 0, rpm[0])
         tt, th = reference_angle_table(ts, rpm * RPM)
         drives.append(dict(kind=SPEED_CONTROL, a=model.dof(_udof(model, sc.body)),
                            ha=1.0 / b.radius, p0=sc.stiffness_nm_per_rad,
