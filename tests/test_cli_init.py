@@ -202,3 +202,17 @@ def test_every_unit_suffix_of_the_models_is_known():
         from geardyn.config.units import to_unit
 
         assert to_unit(f"2 {info.unit}", info.unit, info.what) == pytest.approx(2.0), suffix
+
+
+def test_top_help_imports_no_command_module():
+    """``geardyn --help`` lists the commands from cli.COMMANDS without importing them (nor
+    pandas, xarray, matplotlib): start-up stays well under a second (benchmarks/bench_startup)."""
+    code = ("import sys\nfrom geardyn.cli import app\ntry:\n    app(['--help'])\n"
+            "except SystemExit:\n    pass\n"
+            "mods = [m for m in sys.modules if m.startswith('geardyn.cli.') and "
+            "m.rsplit('.', 1)[1] in __import__('geardyn.cli').cli.COMMANDS]\n"
+            "heavy = [m for m in ('pandas', 'xarray', 'matplotlib', 'scipy') if m in sys.modules]\n"
+            "print('MODS', mods, heavy)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert "MODS [] []" in out
