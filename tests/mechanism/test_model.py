@@ -365,3 +365,27 @@ def test_lateral_model_keeps_the_kinematic_rigid_modes(examples_dir, name):
     assert null.shape[1] == kin.dof + len(free)
     angles = sla.subspace_angles(sla.orth(model.link_velocity @ null), kin.nullspace)
     assert angles.max() < 1e-8
+
+
+@pytest.mark.parametrize(("ring", "carrier", "dof"), [("ring", "housing", 1),  # star gear
+                                                      ("ring", "carrier", 2)])  # differential
+def test_other_planetary_arrangements(ring, carrier, dof):
+    """Star (carrier fixed: ω_r/ω_s = −z_s/z_r) and two-DOF differential stages: rigid modes =
+    kinematic nullspace; the star's rigid mode has the textbook ratio."""
+    links = ["housing", "sun", ring] + ([carrier] if carrier != "housing" else [])
+    d = {"frame": "housing", "links": links,
+         "planetary": [{"name": "st", "sun": "sun", "ring": ring, "carrier": carrier,
+                        "sun_teeth": ZS, "planet_teeth": ZP, "ring_teeth": ZR,
+                        "n_planets": NP}],
+         "dynamics": {"module_m": MOD}}
+    cfg = parse_config(d)
+    model = model_from_config(cfg)
+    kin = analyze_graph(cfg.graph())
+    null = rigid_modes(model)
+    assert null.shape[1] == kin.dof == dof
+    assert sla.subspace_angles(model.link_velocity @ null, kin.nullspace).max() < 1e-8
+    if dof == 1:
+        om = model.link_velocity @ null[:, 0]
+        g = cfg.graph()
+        assert (om[g.index("ring")] / om[g.index("sun")]).real == pytest.approx(-ZS / ZR,
+                                                                                rel=1e-12)
