@@ -52,10 +52,11 @@ def test_implausible_inputs_are_refused(tmp_path, examples_dir):
         load_config(bad)
 
 
-def test_far_too_large_time_step_ends_suspect(tmp_path, examples_dir):
-    """Issue 13: a 100× too-large step ran to 'ok' with 0.17 m mesh deflections. Now the run
-    ends 'suspect' (deflection > 0.1 module, module 2·r_b/(z cos α) = 16 mm for seed 004) and
-    keeps what it computed; `simulate` exits 3 and writes the file."""
+def test_far_too_large_time_step_is_refused_before_the_run(tmp_path, examples_dir):
+    """Issue 13: a 100× too-large step ran to 'ok' with 0.17 m mesh deflections. Now the step is
+    checked against the shortest natural period before anything runs: refused naming dt_s and
+    the limit, no output file (the 'suspect' status of a run that passes this check but deflects
+    too far is tested in tests/robust/test_sanity.py)."""
     from typer.testing import CliRunner
 
     from geardyn.cli import app
@@ -66,9 +67,11 @@ def test_far_too_large_time_step_ends_suspect(tmp_path, examples_dir):
                                                                       "t_end_s = 0.5"))
     out = tmp_path / "run.nc"
     r = CliRunner().invoke(app, ["simulate", str(cfg), "--out", str(out)])
-    assert r.exit_code == 3, r.output
-    assert "status suspect" in r.output and "module of 16 mm" in r.output
-    assert out.is_file()
+    assert r.exit_code == 2, r.output
+    text_out = " ".join(r.output.split())
+    assert "planetary_dynamics.simulation.dt_s" in text_out and "too large" in text_out
+    assert "Traceback" not in r.output
+    assert not out.exists()
     r = CliRunner().invoke(app, ["simulate", str(examples_dir / "planetary_reclaimer.toml"),
                                  "--out", str(tmp_path / "ok.nc")])
     assert r.exit_code == 0, r.output
