@@ -332,6 +332,16 @@ def test_lateral_general_path_equals_the_coupled_lin_parker_model(ring_free):
     kk = model.stiffness_matrix()
     assert np.abs(t.T @ m_lp @ t - model.M).max() < 1e-9 * np.abs(model.M).max()
     assert np.abs(t.T @ k_lp @ t - kk).max() < 1e-9 * np.abs(kk).max()
+    # gyroscopic and centripetal matrices of the carrier frame (seed 003 eqs 3.4-3.8)
+    g_lp, ko_lp = lp.gyroscopic_matrix(), lp.centripetal_matrix()
+    if not ring_free:
+        g_lp, ko_lp = g_lp[np.ix_(keep, keep)], ko_lp[np.ix_(keep, keep)]
+    g, ko = model.gyroscopic_matrix(), model.centripetal_matrix()
+    assert np.abs(g).max() > 0
+    assert np.abs(t.T @ g_lp @ t - g).max() < 1e-12 * np.abs(g).max()
+    assert np.abs(t.T @ ko_lp @ t - ko).max() < 1e-12 * np.abs(ko).max()
+    (rate, _, _), = model.rotating  # one carrier frame, turning at the carrier's speed
+    assert np.array_equal(rate, model.bodies["carrier"].rotation)
     w2_gen = sla.eigh(kk, model.M, eigvals_only=True)
     w2_lp = sla.eigh(k_lp, m_lp, eigvals_only=True)
     rigid = w2_lp < 1e-9 * w2_lp.max()

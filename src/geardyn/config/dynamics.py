@@ -105,6 +105,9 @@ class DynamicsSimulation(_M):
         "newmark", description="newmark: solve/integrate.py (dense solve per step); lowrank: "
         "constant part factored once, mesh changes as a Woodbury update (solve/lowrank.py)")
     contact_loss: bool = Field(False, description="mesh force 0 when the deflection is < 0")
+    gyroscopic: bool = Field(False, description="lateral model: gyroscopic and centripetal "
+                             "terms of each carrier frame at its current speed (seed 003 eq "
+                             "3.1)")
     rayleigh_alpha: float = Field(0.0, ge=0, description="C += α M (1/s)")
     rayleigh_beta: float = Field(0.0, ge=0, description="C += β K_mean (s)")
     initial_state: Literal["rest", "static"] = Field(

@@ -48,6 +48,7 @@ from geardyn.models.core.lateral import (
     lateral_layout,
     lateral_mass,
     mesh_translation,
+    rotating_frame_terms,
 )
 from geardyn.models.core.model import Body, CoreModel, MeshElement, Spring
 
@@ -348,9 +349,12 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
         bodies[r.name] = Body(r.name, "rotor", h, r.inertia_kgm2, k)
 
     springs = []
+    rotating = []
     if layout:
         rot = {x: b.rotation for x, b in bodies.items()}
-        mm += lateral_mass(layout, {x: blanks[x].mass for x in layout}, orbit, rot, n)
+        masses = {x: blanks[x].mass for x in layout}
+        mm += lateral_mass(layout, masses, orbit, rot, n)
+        rotating = rotating_frame_terms(layout, masses, orbit, rot, _coaxial_groups(graph), n)
         given = {lk.link: lk.bearing_n_per_m for lk in spec.links}
         springs += bearing_springs(layout, given, n)
     meshes = _meshes(graph, kin, pmap, phi, sizes, blanks, spec.mesh_damping_ratio,
@@ -364,7 +368,8 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
     for b in layout.values():
         names += [f"{b.link}.x", f"{b.link}.y"] if b.kind == "fixed" else [
             f"{b.link}.zeta", f"{b.link}.eta"]
-    return CoreModel(names, mm, springs, meshes, bodies, list(graph.links), pmap, graph.frame)
+    return CoreModel(names, mm, springs, meshes, bodies, list(graph.links), pmap, graph.frame,
+                     rotating)
 
 
 def _meshes(graph: MechanismGraph, kin: KinematicAnalysis, pmap: np.ndarray,

@@ -15,7 +15,10 @@ With ``[dynamics] lateral = true``:
   one (ψ: from the internal gear's centre to the external gear's) — the Lin & Parker sun–planet
   and ring–planet deflections (seed 003 notes §2.3), the torsional part being the Willis row.
 
-Gyroscopic and centripetal terms of the rotating carrier frame are not included (G = 0).
+The members of a planetary stage are described in its carrier frame (ψ fixed), as Lin &
+Parker do: :func:`rotating_frame_terms` gives that frame's gyroscopic and centripetal matrices
+(Ω G q̇ − Ω² K_Ω q at the carrier speed Ω, seed 003 eq 3.1); a link turning in the frame that
+is not coaxial with a carrier is described in the fixed frame.
 """
 
 from __future__ import annotations
@@ -77,19 +80,53 @@ def centre_map(link: str, layout: Mapping[str, LateralBody], n: int) -> np.ndarr
     return d + centre_map(b.carrier or "", layout, n)
 
 
+def body_map(b: LateralBody, layout: Mapping[str, LateralBody], orbit: Mapping[str, float],
+             rotation: Mapping[str, np.ndarray], n: int) -> np.ndarray:
+    """D (2 × n): the body's translation in Lin & Parker's coordinates — (x, y) of a link
+    turning in the frame; for a planet (ζ, η) at ψ including its carrier's translation and
+    orbit r_c θ_c (η of Lin & Parker carries u_c)."""
+    d = centre_map(b.link, layout, n)
+    if b.kind == "planet":
+        c, s = math.cos(b.angle), math.sin(b.angle)
+        d = np.array([[c, s], [-s, c]]) @ d  # (ζ, η) components at ψ
+        d[1] += orbit.get(b.link, 0.0) * rotation[b.carrier or ""]
+    return d
+
+
 def lateral_mass(layout: Mapping[str, LateralBody], mass: Mapping[str, float],
                  orbit: Mapping[str, float], rotation: Mapping[str, np.ndarray], n: int
                  ) -> np.ndarray:
     """Translational kinetic energy ½ q̇ᵀ M q̇ of every link with lateral DOFs."""
     mm = np.zeros((n, n))
     for b in layout.values():
-        d = centre_map(b.link, layout, n)
-        if b.kind == "planet":
-            c, s = math.cos(b.angle), math.sin(b.angle)
-            d = np.array([[c, s], [-s, c]]) @ d  # (ζ, η) components at ψ
-            d[1] += orbit.get(b.link, 0.0) * rotation[b.carrier or ""]
+        d = body_map(b, layout, orbit, rotation, n)
         mm += mass[b.link] * d.T @ d
     return mm
+
+
+def rotating_frame_terms(layout: Mapping[str, LateralBody], mass: Mapping[str, float],
+                         orbit: Mapping[str, float], rotation: Mapping[str, np.ndarray],
+                         coaxial: Mapping[str, set[str]], n: int
+                         ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """(rate row r, G, K_Ω) of every carrier with planets: Ω = r·q̇ and, for the carrier, its
+    coaxial central members and its planets (the stage, in the carrier frame),
+    G = Σ m Dᵀ [[0, −2], [2, 0]] D and K_Ω = Σ m Dᵀ D (seed 003 eqs 3.4-3.8; Lin & Parker
+    1999), D the body's translation map (:func:`body_map`)."""
+    out = []
+    skew = np.array([[0.0, -2.0], [2.0, 0.0]])
+    carriers = sorted({b.carrier for b in layout.values() if b.kind == "planet"})
+    for c in carriers:
+        members = [b for b in layout.values()
+                   if (b.kind == "planet" and b.carrier == c)
+                   or (b.kind == "fixed" and b.link in coaxial.get(c or "", set()))]
+        g = np.zeros((n, n))
+        k = np.zeros((n, n))
+        for b in members:
+            d = body_map(b, layout, orbit, rotation, n)
+            g += mass[b.link] * d.T @ skew @ d
+            k += mass[b.link] * d.T @ d
+        out.append((rotation[c or ""].copy(), g, k))
+    return out
 
 
 def bearing_springs(layout: Mapping[str, LateralBody], stiffness: Mapping[str, float], n: int

@@ -13,9 +13,9 @@ A :class:`CoreModel` holds
   are the kinematic nullspace, eq 5); stiffness k(X) and error e(X) are tabulated over the mesh
   coordinate X = bᵀq (mesh cycles of gear a relative to the carrier).
 
-``K(t) = K₀ + Σ_m k_m(X_m) a_m a_mᵀ``; ``C = C₀ + Σ_m c_m a_m a_mᵀ``; the torsional model has no
-gyroscopic coupling (``G = 0``). :meth:`CoreModel.system` gives the integrator's
-:class:`~geardyn.solve.integrate.LinearSystem`.
+``K(t) = K₀ + Σ_m k_m(X_m) a_m a_mᵀ``; ``C = C₀ + Σ_m c_m a_m a_mᵀ``; ``G`` and ``K_Ω`` of the
+carrier frames of the lateral model (0 for the torsional model). :meth:`CoreModel.system`
+gives the integrator's :class:`~geardyn.solve.integrate.LinearSystem`.
 """
 
 from __future__ import annotations
@@ -99,6 +99,8 @@ class CoreModel:
     links: list[str]
     link_velocity: np.ndarray
     frame: str = ""
+    rotating: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=list)
+    """(rate row r, G, K_Ω) per carrier frame of the lateral model: Ω = r·q̇."""
 
     @property
     def n(self) -> int:
@@ -108,8 +110,19 @@ class CoreModel:
         return self.M.copy()
 
     def gyroscopic_matrix(self) -> np.ndarray:
-        """G = 0: torsional coordinates only (no rotating-frame lateral DOFs)."""
-        return np.zeros((self.n, self.n))
+        """Σ G of the carrier frames (lateral model; 0 for the torsional model). Each frame's
+        term is Ω G q̇ at its own carrier speed: see :attr:`rotating`."""
+        g = np.zeros((self.n, self.n))
+        for _r, gg, _k in self.rotating:
+            g += gg
+        return g
+
+    def centripetal_matrix(self) -> np.ndarray:
+        """Σ K_Ω of the carrier frames (the −Ω² K_Ω q term, lateral model)."""
+        k = np.zeros((self.n, self.n))
+        for _r, _g, kk in self.rotating:
+            k += kk
+        return k
 
     def constant_stiffness(self) -> np.ndarray:
         """K₀: the linear elements (shafts, supports), without the meshes."""
@@ -155,20 +168,24 @@ class CoreModel:
 
     def system(self, rayleigh: tuple[float, float] = (0.0, 0.0), drives: list[dict] | None = None,
                force_t: np.ndarray | None = None, force: np.ndarray | None = None,
-               contact_loss: bool = False, mass_schedule: MassSchedule | None = None
-               ) -> LinearSystem:
+               contact_loss: bool = False, mass_schedule: MassSchedule | None = None,
+               gyroscopic: bool = False) -> LinearSystem:
         """Integrator system: M, C₀ (shafts + Rayleigh on K_mean), K₀ (linear elements) and the
         meshes as variable springs carrying their own damping; ``mass_schedule`` optional
-        (M_ii as a function of an angle, e.g. the bucket wheel's ore load)."""
+        (M_ii as a function of an angle, e.g. the bucket wheel's ore load); ``gyroscopic``:
+        Ω G q̇ − Ω² K_Ω q of every carrier frame at its current speed (seed 003 eq 3.1)."""
         c0 = rayleigh[0] * self.M + rayleigh[1] * self.stiffness_matrix()
         for s in self.springs:
             c0 += s.c * np.outer(s.a, s.a)
         n = self.n
+        frames = self.rotating if gyroscopic else []
         return LinearSystem(
             self.M.copy(), c0, self.constant_stiffness(), self.variable_springs(contact_loss),
             Drives.build(drives or []),
             np.zeros(0) if force_t is None else np.asarray(force_t, float),
             np.zeros((0, n)) if force is None else np.asarray(force, float),
             mass_schedule or MassSchedule(), list(self.dof_names),
-            gyro_g=np.zeros((0, n, n)), gyro_k=np.zeros((0, n, n)), gyro_rate=np.zeros((0, n)),
+            gyro_g=np.array([g for _r, g, _k in frames]).reshape(len(frames), n, n),
+            gyro_k=np.array([k for _r, _g, k in frames]).reshape(len(frames), n, n),
+            gyro_rate=np.array([r for r, _g, _k in frames]).reshape(len(frames), n),
         )

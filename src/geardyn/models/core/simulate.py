@@ -162,7 +162,7 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
 
     def build() -> LinearSystem:
         return model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
-                            sim.contact_loss, schedule)
+                            sim.contact_loss, schedule, sim.gyroscopic)
 
     q_static = orient_meshes(model, build(), v0)
     system = build()
