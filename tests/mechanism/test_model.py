@@ -399,3 +399,28 @@ def test_other_planetary_arrangements(ring, carrier, dof):
         g = cfg.graph()
         assert (om[g.index("ring")] / om[g.index("sun")]).real == pytest.approx(-ZS / ZR,
                                                                                 rel=1e-12)
+
+
+def test_campbell_of_the_lateral_stage_equals_lin_parker():
+    """Frequencies against carrier speed with the carrier frame's G and K_Ω (seed 003 eq 3.1):
+    the general lateral model gives solve.modal.campbell of the coupled Lin & Parker model."""
+    from geardyn.models.core.modal import core_campbell
+    from geardyn.solve.modal import campbell
+
+    model = model_from_config(parse_config(_lateral_config(True)))
+    rs, rp, rr, rc = _radii()
+
+    def member(j: float, r: float, m: float, kb: float, kt: float = 0.0) -> dict:
+        return dict(mass=m, inertia=j, radius=r, bearing=kb, torsional=kt)
+
+    spec = StageSpec("st", NP, [2 * math.pi * i / NP for i in range(NP)],
+                     sun=member(JS, rs, MS, KB), ring=member(JR, rr, MR, KB, KRT),
+                     carrier=member(JC, rc, MC, KB), planet=member(JP, rp, MP, 0.0),
+                     alpha_s=ALPHA, alpha_r=ALPHA, k_sun_mesh=KS, k_ring_mesh=KR,
+                     planet_bearing=KPB, z_sun=ZS, z_ring=ZR, z_planet=ZP, prefix=False)
+    lp = assemble([spec], reduction="none")
+    speeds = np.array([0.0, 200.0, 600.0])
+    got = core_campbell(model, "carrier", speeds).values
+    want = campbell(lp, speeds).values
+    assert got[:, 1:] == pytest.approx(want[:, 1:], rel=1e-9)
+    assert not np.allclose(want[0], want[-1])  # the speed does split the frequencies
