@@ -27,6 +27,19 @@ class GeardynConfig(Mechanism):
     simulation settings); a file holding only a mechanism is a valid config.
     """
 
+    @model_validator(mode="before")
+    @classmethod
+    def _units(cls, data: Any) -> Any:
+        """Numbers written with a unit (``"3 mm"``) → the field's unit; wrong dimensions and
+        implausible magnitudes refused naming the field (:mod:`geardyn.config.units`)."""
+        if not isinstance(data, Mapping):
+            return data
+        problems: list[str] = []
+        data = convert_units(data, problems=problems)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return data
+
     gear_geometry: list[GearGeometryConfig] = Field(
         default_factory=list,
         description="gear geometry attached to named gear pairs (see geardyn.config.gears)",
@@ -146,13 +159,10 @@ def format_validation_error(exc: ValidationError, data: Any) -> list[str]:
 def parse_config(data: Mapping[str, Any], source: str | None = None) -> GeardynConfig:
     """Validate a config held in a mapping (e.g. parsed TOML).
 
-    Numbers may be written as strings with a unit (``"3 mm"``): a first pass converts them to
-    the unit in the field's name and refuses wrong dimensions and implausible magnitudes
-    (:mod:`geardyn.config.units`), naming the field."""
-    problems: list[str] = []
-    data = convert_units(data, problems=problems)
-    if problems:
-        raise ConfigError(problems, source=source)
+    Numbers may be written as strings with a unit (``"3 mm"``): a first pass
+    (:meth:`GeardynConfig._units`) converts them to the unit in the field's name and refuses
+    wrong dimensions and implausible magnitudes (:mod:`geardyn.config.units`), naming the
+    field."""
     try:
         return GeardynConfig.model_validate(dict(data))
     except ValidationError as exc:
