@@ -92,8 +92,7 @@ def test_seed002_low_gap_is_the_deep_teeth() -> None:
 
 @pytest.mark.parametrize("label", list(ROWS))
 def test_docs_table_row(label: str) -> None:
-    """The docs show the ISO numbers of the standard's formula; the PE column is pinned.
-    # regression guard (no source value): the PE mean per width of docs/stiffness.md."""
+    """The docs show the ISO numbers of the standard's formula; the PE column is pinned."""
     cells = _doc_rows()[label]
     g = _geometry(label)
     c, cga = iso_by_hand(g)
@@ -101,6 +100,7 @@ def test_docs_table_row(label: str) -> None:
     assert float(cells[5]) == pytest.approx(cga, abs=0.006)
     assert float(cells[8]) == pytest.approx(c, abs=0.006)
     kpe = _pe_mean(g)
+    # regression guard (no source value): the PE mean per width shown in docs/stiffness.md
     assert float(cells[4]) == pytest.approx(kpe, abs=0.006)
     pct = float(re.sub(r"[^\d.+-]", "", cells[6].replace("−", "-")))
     assert pct == pytest.approx((kpe - cga) / cga * 100, abs=0.51)
