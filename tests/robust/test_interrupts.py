@@ -103,3 +103,39 @@ def test_transmission_sigkill_sigint_resume(tmp_path: Path) -> None:
     out = tmp_path / "fe.nc"
     _chain(tmp_path, ["transmission", str(cfg_path), "--revolutions", "5", "--modes", "3",
                       "--netcdf", str(out)], out, reference)
+
+
+WRITER = """
+import sys
+import numpy as np
+import xarray as xr
+from geardyn.results import to_netcdf
+ds = xr.Dataset({"x": (("time", "c"), np.ones((1_000_000, 8)))}, attrs={"status": "ok"})
+print("writing", flush=True)
+to_netcdf(ds, sys.argv[1])
+"""
+
+
+def test_sigkill_while_writing_keeps_the_final_path_intact(tmp_path: Path) -> None:
+    """Issue 13: SIGKILL while writing left an unreadable file at the final path. Now the
+    file goes to a temporary name and is renamed: killed mid-write (64 MB), the previous file
+    at the final path is untouched and readable."""
+    out = tmp_path / "run.nc"
+    xr.Dataset({"old": ("t", np.arange(3.0))}).to_netcdf(out, engine="h5netcdf")
+    before = out.read_bytes()
+    p = subprocess.Popen([sys.executable, "-c", WRITER, str(out)], stdout=subprocess.PIPE,
+                         text=True)
+    assert p.stdout is not None and p.stdout.readline().strip() == "writing"
+    t0 = time.monotonic()
+    tmp = []
+    while time.monotonic() - t0 < 30 and p.poll() is None:
+        tmp = [f for f in tmp_path.glob(".run.nc.*.tmp") if f.stat().st_size > 1_000_000]
+        if tmp:
+            break
+        time.sleep(0.005)
+    assert tmp, "the write went to a temporary file"
+    p.send_signal(signal.SIGKILL)
+    p.wait(timeout=30)
+    assert out.read_bytes() == before
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert list(ds.data_vars) == ["old"]
