@@ -435,6 +435,10 @@ CASES: list[tuple[str, str | None, dict, list[str] | None, tuple[str, ...]]] = [
     ("speed-contradicts-tacho", None, {}, [*AN, "--fs", "20000", "--tacho", "{sig}/full.npy",
                                            "--speed", "motor=1000"],
      ("--speed", "contradicts the tacho")),
+    ("speed-contradicts-file-tacho", None, {}, ["analyze", "{sig}/p.npz", "--config",
+                                                str(EXAMPLES / f"{HB}.toml"), "--speed",
+                                                "motor=1000", "--out", "{tmp}/rep"],
+     ("--speed", "contradicts the tacho")),
     ("an-fs-nan", None, {}, [*AN, "--fs", "nan", "--speed", "motor=1500"], ("--fs", "finite")),
     ("an-fs-negative", None, {}, [*AN, "--fs", "-5", "--speed", "motor=1500"], ("--fs", "> 0")),
     ("an-fs-missing", None, {}, [*AN, "--speed", "motor=1500"], ("fs", "sample rate")),
@@ -555,6 +559,7 @@ def signals(tmp_path_factory) -> Path:
     x = np.cos(2 * np.pi * 25.0 * 3 * t)
     np.save(d / "s.npy", x)
     np.savez(d / "s.npz", x=x, fs=fs)
+    np.savez(d / "p.npz", x=x, fs=fs, pulse_times=np.arange(0.0, 2.0, 0.04))
     (d / "s.xyz").write_text("1 2 3\n")
     np.save(d / "full.npy", np.arange(0.0, 2.0, 0.04))
     np.save(d / "quarter.npy", np.arange(0.0, 0.5, 0.04))

@@ -165,8 +165,13 @@ def analyze(
         else:
             rec = read_signal(signal, fs, channel)
             pulses = read_pulse_times(tacho) if tacho is not None else None
-        if sim_channel is None and pulses is None and not speeds and rec.pulse_times is not None:
-            pulses = rec.pulse_times
+        if sim_channel is None and pulses is None and rec.pulse_times is not None:
+            if speeds:  # --speed with a tacho stored in the file: they must agree
+                tp = rec.pulse_times
+                check_speed_agrees(speeds, 60.0 * (tp.size - 1) / max(pulses_per_rev, 1)
+                                   / (tp[-1] - tp[0]), pulses_per_rev)
+            else:
+                pulses = rec.pulse_times
         if pulses is None and not speeds:
             raise InputError("--speed or --tacho: the reference shaft speed is needed")
         ref = _reference(speeds, reference, cfg)
