@@ -55,8 +55,32 @@ OPTION_RULES: dict[str, tuple[str, float]] = {
     "--revolutions": (">", 0), "--t-end": (">", 0), "--fs": (">", 0), "--cycles": (">", 0),
     "--clock": (">", 0), "--k": (">", 0), "--seed": ("≥", 0), "--record-seed": ("≥", 0),
     "--skip": ("≥", 0), "--samples": ("≥", 4), "--samples-per-rev": ("≥", 4),
-    "--ppr": ("≥", 1), "--ias-ppr": ("≥", 1), "--blocks": ("≥", 1),
+    "--ppr": ("≥", 1), "--ias-ppr": ("≥", 1), "--blocks": ("≥", 1), "--modes": ("≥", 1),
+    "--max-hz": (">", 0), "--campbell": (">", 0), "--checkpoint-every": (">", 0),
 }
+
+#: Options naming an output FILE: its directory must exist and the path must not be a
+#: directory (checked while parsing, before any work).
+FILE_OPTIONS = {"--plot", "--netcdf"}
+
+
+def _file_callback(previous: Any) -> Any:
+    """A parameter callback refusing an output file in a missing directory."""
+
+    def check(ctx: Any, param: Any, value: Any) -> Any:
+        if value is not None:
+            from pathlib import Path
+
+            path = Path(value)
+            if path.is_dir():
+                raise typer.BadParameter(f"'{path}' is a directory, expected a file name",
+                                         param=param)
+            if not path.parent.is_dir():
+                raise typer.BadParameter(f"directory '{path.parent}' does not exist",
+                                         param=param)
+        return previous(ctx, param, value) if previous is not None else value
+
+    return check
 
 
 def _number_callback(previous: Any, rule: tuple[str, float] | None) -> Any:
@@ -97,6 +121,8 @@ def _finish(cmd: Any) -> Any:
                     None)
         if checked and ("float" in annotation or ("int" in annotation and rule is not None)):
             param.callback = _number_callback(param.callback, rule)
+        if "Path" in annotation and set(getattr(param, "opts", [])) & FILE_OPTIONS:
+            param.callback = _file_callback(param.callback)
     cmd._geardyn_finished = True
     return cmd
 
