@@ -87,6 +87,17 @@ def _check_skip(cfg, skip: float | None, t_end: float | None) -> None:  # noqa: 
                          f"shorter than the run ({end:g} s, --t-end / diagnosis.t_end_s)")
 
 
+def _check_channel(cfg, channel: str | None) -> None:  # noqa: ANN001
+    """--channel of a simulated run: one of the config's [[sensors]] recording a signal."""
+    sensors = {s.name: s for s in getattr(cfg, "sensors", [])}
+    if channel is None or not sensors:
+        return
+    usable = [n for n, s in sensors.items() if s.kind != "tacho"]
+    if channel not in usable:
+        raise InputError(f"--channel: '{channel}' is not a signal sensor of the config "
+                         f"(sensors: {', '.join(usable) or 'none'})")
+
+
 @app.command("diagnose")
 @friendly_errors
 def diagnose_cmd(
@@ -132,8 +143,9 @@ def diagnose_cmd(
     problems = sensor_name_problems(cfg)
     if problems:
         raise ConfigError(problems, source=str(config))
-    if record is None:  # simulated runs: their length is known before they start
+    if record is None:  # simulated runs: length and channels are known before they start
         _check_skip(cfg, skip, t_end)
+        _check_channel(cfg, channel)
     make_output_dir(out)
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as prog:

@@ -172,6 +172,8 @@ def parse_config(data: Mapping[str, Any], source: str | None = None) -> GeardynC
 def load_config(path: str | Path) -> GeardynConfig:
     """Read and validate a TOML config file."""
     p = Path(path)
+    if p.is_dir():
+        raise ConfigError(f"config file '{p}' is a directory, expected a TOML file")
     if not p.is_file():
         raise ConfigError(f"config file '{p}' does not exist")
     try:
@@ -179,4 +181,10 @@ def load_config(path: str | Path) -> GeardynConfig:
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"not valid TOML: {exc}", source=str(p)) from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"not valid TOML: not UTF-8 text ({exc.reason} at byte "
+                          f"{exc.start})", source=str(p)) from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read the config file: {exc.strerror or exc}",
+                          source=str(p)) from None
     return parse_config(data, source=str(p))
