@@ -252,6 +252,11 @@ def write_signal_netcdf(
 def _open_nc(p: Path):
     import xarray as xr
 
+    with p.open("rb") as fh:
+        magic = fh.read(8)
+    if not (magic.startswith(b"CDF") or magic.startswith(b"\x89HDF")):
+        raise InputError(f"signal: {p} is not a NetCDF file (neither NetCDF3 nor NetCDF4/HDF5 "
+                         "header)")
     try:
         return xr.open_dataset(p)
     except (ImportError, ValueError) as exc:

@@ -489,6 +489,13 @@ CASES: list[tuple[str, str | None, dict, list[str] | None, tuple[str, ...]]] = [
     ("an-csv-time-uneven", None, {}, ["analyze", "{sig}/uneven.csv", "--config",
                                       str(EXAMPLES / f"{HB}.toml"), "-s", "motor=1500"],
      ("time", "uniformly")),
+    ("an-not-netcdf", None, {}, ["analyze", "{sig}/bad.nc", "--config",
+                                 str(EXAMPLES / f"{HB}.toml"), "-s", "motor=1500"],
+     ("not a netcdf file",)),
+    ("an-speed-too-slow", None, {}, [*AN, "--fs", "20000", "-s", "motor=0.001"],
+     ("--speed", "revolutions", "at least one")),
+    ("an-ias-not-edges", None, {}, [*AN, "--ias-ppr", "100"],
+     ("--ias-ppr", "edge times")),
     ("an-ppr-zero", None, {}, [*AN, "--fs", "20000", "--tacho", "{sig}/full.npy", "--ppr", "0"],
      ("--ppr", "≥ 1")),
     ("an-spr-small", None, {}, [*AN, "--fs", "20000", "-s", "motor=1500",
@@ -584,6 +591,7 @@ def signals(tmp_path_factory) -> Path:
     np.savez(d / "s.npz", x=x, fs=fs)
     np.savez(d / "p.npz", x=x, fs=fs, pulse_times=np.arange(0.0, 2.0, 0.04))
     (d / "s.xyz").write_text("1 2 3\n")
+    (d / "bad.nc").write_text("garbage, not NetCDF\n")
     np.save(d / "full.npy", np.arange(0.0, 2.0, 0.04))
     np.save(d / "quarter.npy", np.arange(0.0, 0.5, 0.04))
     np.save(d / "unsorted.npy", np.array([0.0, 0.08, 0.04, 0.12]))

@@ -135,7 +135,11 @@ def analyze(
         if ias_ppr < 1:
             raise InputError(f"--ias-ppr: pulses per revolution must be >= 1, got {ias_ppr}")
         ref = _reference(speeds, reference, cfg)
-        meas = elapsed_time_ias(read_pulse_times(signal), ias_ppr, clock)
+        try:
+            edges = read_pulse_times(signal)
+        except InputError as exc:
+            raise InputError(f"--ias-ppr: SIGNAL must hold encoder edge times [s]: {exc}") from None
+        meas = elapsed_time_ias(edges, ias_ppr, clock)
         spr = int(ias_ppr)
         ias = meas.ias
         samples = (meas.ias, meas.time, meas.angle)
@@ -177,6 +181,11 @@ def analyze(
         ref = _reference(speeds, reference, cfg)
         if pulses is None:
             rpm = speeds[ref]
+            revs = rpm / 60.0 * rec.x.shape[0] / rec.fs
+            if revs < 1:
+                raise InputError(f"--speed: at {rpm:g} rpm the record ({rec.x.shape[0] / rec.fs:g} "
+                                 f"s) covers {revs:.3g} revolutions of '{ref}'; at least one "
+                                 "is needed (check the speed unit: rpm)")
         else:
             if pulses_per_rev < 1:
                 raise InputError(f"--ppr: pulses per revolution must be >= 1, got {pulses_per_rev}")
