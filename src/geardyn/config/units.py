@@ -38,6 +38,7 @@ SUFFIXES: dict[str, Suffix] = {
     "_ns_per_m": Suffix("N*s/m", "a damping (N·s/m)", 1e12),
     "_n_per_m": Suffix("N/m", "a stiffness (N/m)", 1e14),
     "_kg_m3": Suffix("kg/m**3", "a density (kg/m³)", 1e5),
+    "_kg_m": Suffix("kg*m", "an unbalance m·e (kg·m)", 1e4),
     "_kgm2": Suffix("kg*m**2", "a moment of inertia (kg·m²)", 1e8),
     "_rpm": Suffix("rpm", "a rotational speed", 1e6),
     "_deg": Suffix("deg", "an angle", 3600.0),
