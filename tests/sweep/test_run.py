@@ -62,7 +62,8 @@ def spec_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.fixture(scope="module")
-def reference(spec_path: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+def reference(spec_path: Path, tmp_path_factory: pytest.TempPathFactory,
+              cluster) -> Path:  # noqa: ANN001 - started first: its workers warm up meanwhile
     """The sweep on ONE worker (in-process, single thread)."""
     from distributed import Client
 
@@ -79,7 +80,19 @@ def cluster():  # noqa: ANN201 - distributed.Client
     """A LocalCluster of 2 worker processes with nannies (as `geardyn sweep` makes)."""
     with _client(None, 2) as client:
         client.wait_for_workers(2, timeout=120)
+        warm = [client.submit(_warm_up, pure=False, workers=[w], allow_other_workers=False)
+                for w in client.scheduler_info()["workers"]]
         yield client
+        del warm
+
+
+def _warm_up() -> None:
+    """Imports and the numba cache of a worker (what its first case would pay)."""
+    from geardyn.config.loader import load_config
+    from geardyn.run import run_simulation
+    from geardyn.sweep import case  # noqa: F401
+
+    run_simulation(load_config(BASE), seed=0, t_end_s=0.01)
 
 
 def assert_same_store(a: Path, b: Path) -> None:
