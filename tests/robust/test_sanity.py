@@ -209,3 +209,21 @@ def test_transmission_energy_balance_and_deflection_check(examples_dir):
         assert bad.attrs["status"] == status
     assert f"mesh '{mh.names[0]}'" in bad.attrs["diagnosis"]
     assert f"module of {module * 1e3:.3g} mm" in bad.attrs["diagnosis"]
+
+
+def test_planetary_overload_deflection_suspect(examples_dir):
+    """lin_parker with 1000 × its carrier torque (9.6e4 N·m, applied at t = 0): the step passes
+    the checks, but the meshes deflect beyond 0.1 module (module 2 mm → 0.2 mm), so the run
+    ends 'suspect' with its result. Hand bound: each planet's sun and ring meshes share the
+    carrier force equally (planet moment balance), F = T / (6 r_c) = 9.6e4 / 0.36 = 2.7e5 N,
+    δ = F / k̄ = 0.53 mm statically (k̄ = 5e8 N/m); a load applied at once overshoots at most to
+    twice that, ±10 % for the stiffness variation and the line-of-action angles: 0.45-1.3 mm."""
+    cfg = load_config(examples_dir / "planetary_lin_parker.toml")
+    d = cfg.model_dump(exclude_none=True)
+    d["planetary_dynamics"]["simulation"]["torques"][0]["torque_nm"] = -9.6e4
+    ds = run_simulation(parse_config(d))
+    assert ds.attrs["status"] == "suspect"
+    assert "for a module of 2 mm (more than 0.1 × module)" in ds.attrs["diagnosis"]
+    peak = float(np.abs(ds["mesh_deflection"].values).max())
+    assert 0.45e-3 < peak < 1.3e-3
+    assert ds.sizes["time"] == round(0.01 / 2e-5) + 1
