@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from geardyn.cli import app
@@ -94,11 +96,15 @@ def transmission_cmd(
     if modes_only:
         return
     try:
-        ds = run_with_control(
-            cfg, netcdf, checkpoint_every, resume,
-            options={"seed": seed, "revolutions": revolutions},
-            run=lambda ctl: simulate(cfg, revolutions=revolutions, prepared=prep, control=ctl,
-                                     check_step=True))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            ds = run_with_control(
+                cfg, netcdf, checkpoint_every, resume,
+                options={"seed": seed, "revolutions": revolutions},
+                run=lambda ctl: simulate(cfg, revolutions=revolutions, prepared=prep,
+                                         control=ctl, check_step=True))
+        for w in caught:
+            console.print(f"[bold yellow]warning:[/] {escape(str(w.message))}", highlight=False)
     except SimulationDivergedError as exc:
         if netcdf is not None:
             to_netcdf(exc.result, netcdf)
