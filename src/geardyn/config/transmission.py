@@ -127,6 +127,34 @@ class SimulationConfig(_Strict):
     initial_rpm: float | None = Field(
         None, gt=0, description="plain torque laws: initial speed of the drive shaft"
     )
+    gyroscopic: bool = Field(
+        False, description="gyroscopic terms Ω_s(t) G_s q̇ of shafts and wheels at each "
+        "shaft's current speed in the time integration"
+    )
+
+
+class UnbalanceConfig(_Strict):
+    """Rotating unbalance at a shaft node: force m e θ̇² along the node's rotating direction
+    θz + phase (plus the tangential m e θ̈ term)."""
+
+    at: NodeRef
+    mass_eccentricity_kg_m: float = Field(gt=0, description="unbalance m·e in kg·m")
+    phase_deg: float = Field(0.0, description="angle of the unbalance from +x at θz = 0")
+
+
+class ExternalLoadConfig(_Strict):
+    """Force or torque on one DOF of a node: F = value + amplitude·cos(2π f t + n θz + φ),
+    θz the rotation of the node (time law: frequency_hz; angle law: order n per revolution)."""
+
+    at: NodeRef
+    dof: Literal["x", "y", "z", "rx", "ry", "rz"] = Field(
+        description="x, y, z: force in N; rx, ry, rz: torque about that axis in N·m"
+    )
+    value: float = Field(0.0, description="constant part (N or N·m)")
+    amplitude: float = Field(0.0, description="amplitude of the harmonic part (N or N·m)")
+    frequency_hz: float = Field(0.0, ge=0, description="time law: frequency of the harmonic part")
+    order: float = Field(0.0, description="angle law: cycles per revolution of the node")
+    phase_deg: float = Field(0.0)
 
 
 class TransmissionConfig(_Strict):
@@ -139,6 +167,8 @@ class TransmissionConfig(_Strict):
     load: TorqueConfig
     speed_law: SpeedLaw | None = None
     simulation: SimulationConfig = Field(default_factory=SimulationConfig)
+    unbalance: list[UnbalanceConfig] = Field(default_factory=list)
+    external_loads: list[ExternalLoadConfig] = Field(default_factory=list)
 
     @model_validator(mode="after")
     def _refs(self) -> TransmissionConfig:
@@ -164,6 +194,10 @@ class TransmissionConfig(_Strict):
         check(self.load.at, "load.at")
         if self.speed_law is not None:
             check(self.speed_law.reference, "speed_law.reference")
+        for i, u in enumerate(self.unbalance):
+            check(u.at, f"unbalance[{i}].at")
+        for i, x in enumerate(self.external_loads):
+            check(x.at, f"external_loads[{i}].at")
         wheel_pairs = {(w.pair, w.gear) for w in self.wheels}
         mesh_pairs = {m.pair for m in self.meshes}
         for i, w in enumerate(self.wheels):

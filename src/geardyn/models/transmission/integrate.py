@@ -11,7 +11,19 @@ decimated.
 
 Drive: T_d = T_0 + K_p e + K_i ∫e, e = ω_ref(t) − ω_ref_node, on the drive node; the load
 torque is constant and resists the rotation (seed 002 §3.2: operating point reached by the
-torque laws). Energy bookkeeping integrates input, output and each dissipation channel.
+torque laws). Energy bookkeeping integrates input, output, the work of the applied loads and
+each dissipation channel.
+
+Gyroscopic terms (optional): M q̈ + (C + Σ_s Ω_s(t) G_s) q̇ + K q = F, G_s the gyroscopic
+matrix of shaft s per rad/s (Timoshenko elements + wheels, :mod:`geardyn.elements`), Ω_s(t)
+the current mean spin θ̇z of the shaft's nodes (Lalanne & Ferraris, *Rotordynamics
+Prediction in Engineering*, 1998, ch. 1-2, assembled). G_s is skew-symmetric: the terms do
+no work.
+
+Applied loads (optional): unbalances m e at a node, F = m e (θ̇² cos θ + θ̈ sin θ,
+θ̇² sin θ − θ̈ cos θ) with θ = θz + φ the node's rotation (the force of the rotating point
+mass on the rotor, its own inertia neglected; Lalanne & Ferraris 1998 ch. 1), and external
+forces/torques F = F₀ + A cos(2π f t + n θz,ref + φ) on any DOF (time law f, angle law n).
 """
 
 from __future__ import annotations
@@ -27,12 +39,84 @@ from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
 from geardyn.solve.control import RunControl, check_record_size
 
 # channels of the energy accumulator
-E_IN, E_OUT, E_VISC, E_ROLL, E_FRIC, E_SQZ, E_MODAL = range(7)
+E_IN, E_OUT, E_VISC, E_ROLL, E_FRIC, E_SQZ, E_MODAL, E_EXT = range(8)
+
+
+def no_gyroscopic() -> tuple:
+    """Gyroscopic arguments of the loops without gyroscopic terms."""
+    return (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0), np.zeros(0, np.int64),
+            np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros(0))
+
+
+def gyroscopic_args(G: dict[str, np.ndarray], spin_dofs: dict[str, list[int]]) -> tuple:
+    """Sparse (COO) gyroscopic matrices of the shafts for :func:`gyroscopic_forces`:
+    (rows, cols, values per rad/s, shaft index per entry, CSR offsets of each shaft's θz DOFs,
+    the θz DOFs, work array of the shaft speeds)."""
+    rows, cols, vals, sh, ptr, dofs = [], [], [], [], [0], []
+    for i, (name, g) in enumerate(G.items()):
+        r, c = np.nonzero(g)
+        rows.append(r)
+        cols.append(c)
+        vals.append(g[r, c])
+        sh.append(np.full(r.size, i, np.int64))
+        dofs.extend(spin_dofs[name])
+        ptr.append(len(dofs))
+    if not rows:
+        return no_gyroscopic()
+    return (np.concatenate(rows).astype(np.int64), np.concatenate(cols).astype(np.int64),
+            np.concatenate(vals).astype(float), np.concatenate(sh), np.array(ptr, np.int64),
+            np.array(dofs, np.int64), np.zeros(len(G)))
+
+
+def no_loads() -> tuple:
+    """Applied-load arguments of the loops without unbalances or external loads."""
+    z, zi = np.zeros(0), np.zeros(0, np.int64)
+    return (zi, z, z, zi, z, z, z, z, zi, z)
 
 
 @njit(cache=True)
-def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf):  # pragma: no cover
+def gyroscopic_forces(v, f, g_row, g_col, g_val, g_sh, sh_ptr, sh_dofs, om
+                      ):  # pragma: no cover - compiled
+    """f −= Σ_s Ω_s G_s v with Ω_s the mean θ̇z of shaft s's nodes (``om`` receives Ω_s)."""
+    for s in range(sh_ptr.size - 1):
+        w = 0.0
+        for j in range(sh_ptr[s], sh_ptr[s + 1]):
+            w += v[sh_dofs[j]]
+        om[s] = w / (sh_ptr[s + 1] - sh_ptr[s])
+    for e in range(g_row.size):
+        f[g_row[e]] -= om[g_sh[e]] * g_val[e] * v[g_col[e]]
+
+
+@njit(cache=True)
+def applied_loads(q, v, a, t, fx, u_dof, u_me, u_ph, x_dof, x_f0, x_amp, x_freq, x_ord,
+                  x_angdof, x_ph):  # pragma: no cover - compiled
+    """Unbalance forces (``u_dof``: x DOF of the node; θz is ``u_dof`` + 5) and external loads
+    at time ``t`` into ``fx`` (overwritten)."""
+    fx[:] = 0.0
+    for i in range(u_dof.size):
+        d = u_dof[i]
+        th = q[d + 5] + u_ph[i]
+        w = v[d + 5]
+        al = a[d + 5]
+        c = math.cos(th)
+        s = math.sin(th)
+        fx[d] += u_me[i] * (w * w * c + al * s)
+        fx[d + 1] += u_me[i] * (w * w * s - al * c)
+    for i in range(x_dof.size):
+        ph = 2.0 * math.pi * x_freq[i] * t + x_ph[i]
+        if x_ord[i] != 0.0:
+            ph += x_ord[i] * q[x_angdof[i]]
+        fx[x_dof[i]] += x_f0[i] + x_amp[i] * math.cos(ph)
+
+
+@njit(cache=True)
+def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx
+           ):  # pragma: no cover
     f[:] = fext
+    if fx.size > 0:
+        f += fx
+    if gargs[0].size > 0:
+        gyroscopic_forces(v, f, *gargs)
     bearing_forces(q, v, f, diss, *bargs, bl)
     mesh_forces(q, v, f, diss, *margs, mf)
     f -= K @ q
@@ -46,10 +130,11 @@ def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf):  # pragma:
 def start_loop(
     q, v, Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign, load_sign,
     ref_sign, load_torque, t_ref, w_ref, kp, ki, t0_drive, integ0,
-    a, fext, diss, bl, mf, sc,
+    a, fext, diss, bl, mf, sc, gargs, xargs, fx,
 ):  # pragma: no cover - compiled
     """Initial state of the loop at t = 0: drive torque, acceleration ``a``, dissipation
-    powers ``diss``, bearing loads ``bl``, mesh forces ``mf``; ``sc`` = [t, ∫e, T_d]."""
+    powers ``diss``, bearing loads ``bl``, mesh forces ``mf``, applied loads ``fx`` (empty
+    without loads; θ̈ taken 0 at the start); ``sc`` = [t, ∫e, T_d]."""
     n = q.size
     f = np.zeros(n)
     t = 0.0
@@ -60,7 +145,9 @@ def start_loop(
     fext[drive_dof] = drive_sign * td
     fext[load_dof] = -load_sign * load_torque
     diss[:] = 0.0
-    a[:] = _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf)
+    if fx.size > 0:
+        applied_loads(q, v, a, t, fx, *xargs)
+    a[:] = _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx)
     sc[0] = t
     sc[1] = integ0
     sc[2] = td
@@ -70,10 +157,10 @@ def start_loop(
 def run_chunk(
     q, v, a, fext, diss, bl, mf, energy, sc, step0, step1, dt, rec_every, rec,
     Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign, ref_sign,
-    t_ref, w_ref, kp, ki, t0_drive, max_disp, rec_dofs,
+    t_ref, w_ref, kp, ki, t0_drive, max_disp, rec_dofs, gargs, xargs, fx,
 ):  # pragma: no cover - compiled
     """Advance global steps ``step0`` → ``step1`` (velocity Verlet); the loop state (q, v, a,
-    fext, diss, bl, mf, energy, sc = [t, ∫e, T_d]) is updated in place so that chunks continue
+    fext, diss, bl, mf, energy, sc = [t, ∫e, T_d], fx) is updated in place so that chunks continue
     exactly. Global step s is recorded (before advancing it) in row s // rec_every of ``rec``
     when s is a multiple of ``rec_every``. Returns (last step reached, status): status 0 ok,
     1 diverged while advancing from that step.
@@ -95,6 +182,7 @@ def run_chunk(
         p_in0 = fext[drive_dof] * v[drive_dof]
         p_out0 = -fext[load_dof] * v[load_dof]
         d0 = diss.copy()
+        px0 = fx @ v if fx.size > 0 else 0.0
         vh = v + 0.5 * dt * a
         q += dt * vh
         t += dt
@@ -105,7 +193,9 @@ def run_chunk(
         td = t0_drive + kp * err + ki * integ
         fext[drive_dof] = drive_sign * td
         diss[:] = 0.0
-        a[:] = _accel(q, vp, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf)
+        if fx.size > 0:
+            applied_loads(q, vp, a, t, fx, *xargs)
+        a[:] = _accel(q, vp, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx)
         v[:] = vh + 0.5 * dt * a
         p_in1 = fext[drive_dof] * v[drive_dof]
         p_out1 = -fext[load_dof] * v[load_dof]
@@ -113,6 +203,8 @@ def run_chunk(
         energy[E_OUT] += 0.5 * dt * (p_out0 + p_out1)
         for c in range(5):
             energy[2 + c] += 0.5 * dt * (d0[c] + diss[c])
+        if fx.size > 0:
+            energy[E_EXT] += 0.5 * dt * (px0 + fx @ v)
         sc[0] = t
         sc[1] = integ
         sc[2] = td
@@ -156,18 +248,24 @@ def stable_time_step(M: np.ndarray, K_lin: np.ndarray) -> float:
 
 
 #: Loop state carried between chunks and written to checkpoints.
-STATE = ("q", "v", "a", "fext", "diss", "bl", "mf", "energy", "sc")
+STATE = ("q", "v", "a", "fext", "diss", "bl", "mf", "energy", "sc", "fx")
 
 
 def run_loop(
     q, v, dt, n_steps, rec_every, Minv, K, C, bargs, margs,  # noqa: ANN001
     drive_dof, load_dof, ref_dof, drive_sign, load_sign, ref_sign, load_torque,  # noqa: ANN001
     t_ref, w_ref, kp, ki, t0_drive, integ0, max_disp, rec_dofs,  # noqa: ANN001
-    control: RunControl | None = None,
+    control: RunControl | None = None, gargs: tuple | None = None,
+    xargs: tuple | None = None,
 ) -> tuple:
     """Integrate ``n_steps`` steps in chunks; returns (records, energy, steps done, status, q,
     v, ∫e). status 0 ok, 1 diverged, 2 stopped by ``control`` (the records cover the steps
-    done). ``control.resume`` continues a checkpointed run of the same setup."""
+    done). ``control.resume`` continues a checkpointed run of the same setup. ``gargs``:
+    :func:`gyroscopic_args` (default none); ``xargs``: applied loads (see
+    :func:`applied_loads`; default none). Energy channels: see ``E_IN`` … ``E_EXT``."""
+    gargs = gargs if gargs is not None else no_gyroscopic()
+    xargs = xargs if xargs is not None else no_loads()
+    nx = xargs[0].size + xargs[3].size
     ctl = control or RunControl()
     n = q.size
     nb = bargs[0].size
@@ -179,16 +277,17 @@ def run_loop(
     rec = np.zeros((nrec, 2 + 2 * nd + 3 * nb + nm))
     st = {"q": np.array(q, float), "v": np.array(v, float), "a": np.zeros(n),
           "fext": np.zeros(n), "diss": np.zeros(5), "bl": np.zeros((nb, 3)), "mf": np.zeros(nm),
-          "energy": np.zeros(7), "sc": np.zeros(3)}
+          "energy": np.zeros(8), "sc": np.zeros(3), "fx": np.zeros(n if nx else 0)}
     run_id = {"scheme": "verlet", "nsteps": int(n_steps), "dt": float(dt),
-              "rec_every": int(rec_every), "n": int(n), "ncols": int(rec.shape[1])}
+              "rec_every": int(rec_every), "n": int(n), "ncols": int(rec.shape[1]),
+              "gyroscopic": int(gargs[0].size), "loads": int(nx)}
     if ctl.resume is not None:
         done = _resume(ctl.resume, run_id, st, rec)
     else:
         start_loop(st["q"], st["v"], Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof,
                    drive_sign, load_sign, ref_sign, load_torque, t_ref, w_ref, kp, ki,
                    t0_drive, integ0, st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
-                   st["sc"])
+                   st["sc"], gargs, xargs, st["fx"])
         done = 0
 
     def state() -> dict:
@@ -202,7 +301,7 @@ def run_loop(
             st["q"], st["v"], st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
             st["energy"], st["sc"], done, done + m, dt, rec_every, rec, Minv, K, C, bargs,
             margs, drive_dof, load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki,
-            t0_drive, max_disp, rec_dofs)
+            t0_drive, max_disp, rec_dofs, gargs, xargs, st["fx"])
         w = time.perf_counter() - w
         if code != 0:
             done, status = reached, 1

@@ -19,7 +19,11 @@ from geardyn.models.transmission.assembly import (
     modal_damping_matrix,
     static_equilibrium,
 )
-from geardyn.models.transmission.integrate import run_loop, stable_time_step
+from geardyn.models.transmission.integrate import (
+    gyroscopic_args,
+    run_loop,
+    stable_time_step,
+)
 from geardyn.results import finish, shaft_variables
 from geardyn.solve.control import RunControl
 from geardyn.solve.sanity import check_energy, check_time_step
@@ -172,6 +176,10 @@ def simulate(
         model.node_sign(ref_node), model.load_torque,
         np.array([0.0, duration, duration * 10 + 1.0]), np.array([w0, w1, w1]),
         kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs, control=control,
+        gargs=gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
+                                                 for s, ids in model.shaft_nodes.items()})
+        if t.simulation.gyroscopic else None,
+        xargs=load_args(model, t) if (t.unbalance or t.external_loads) else None,
     )
     t_run = _time.perf_counter() - t1
     nd = len(shafts)
@@ -200,7 +208,7 @@ def simulate(
                 "axis": ["x", "y"]},
     )
     names = ["input_J", "output_J", "bearing_viscous_J", "rolling_resistance_J",
-             "gear_friction_J", "squeeze_film_J", "modal_damping_J"]
+             "gear_friction_J", "squeeze_film_J", "modal_damping_J", "external_loads_J"]
     ds.attrs.update({f"energy_{k}": float(e) for k, e in zip(names, energy, strict=True)})
     ke0 = 0.5 * v @ model.M @ v
     ke1 = 0.5 * vend @ model.M @ vend
@@ -301,11 +309,33 @@ def energy_terms(ds: xr.Dataset) -> dict[str, float]:
     diss = sum(float(a[f"energy_{k}"]) for k in ("bearing_viscous_J", "rolling_resistance_J",
                                                  "gear_friction_J", "squeeze_film_J",
                                                  "modal_damping_J"))
-    return {"applied_J": float(a["energy_input_J"]) - float(a["energy_output_J"]),
-            "gross_applied_J": abs(float(a["energy_input_J"])) + abs(float(a["energy_output_J"])),
+    ext = float(a.get("energy_external_loads_J", 0.0))
+    return {"applied_J": float(a["energy_input_J"]) - float(a["energy_output_J"]) + ext,
+            "gross_applied_J": abs(float(a["energy_input_J"])) + abs(float(a["energy_output_J"]))
+            + abs(ext),
             "dissipated_J": diss, "kinetic_start_J": float(a["energy_stored_start_J"]),
             "kinetic_end_J": float(a["energy_stored_end_J"]), "potential_start_J": 0.0,
             "potential_end_J": 0.0}
+
+
+_DOF = {"x": 0, "y": 1, "z": 2, "rx": 3, "ry": 4, "rz": 5}
+
+
+def load_args(model: TransmissionModel, t) -> tuple:  # noqa: ANN001 - TransmissionConfig
+    """Applied-load arguments of the loop (:func:`.integrate.applied_loads`) from
+    ``transmission.unbalance`` and ``transmission.external_loads``."""
+    u_dof = np.array([6 * model.node_of(u.at.shaft, u.at.node) for u in t.unbalance], np.int64)
+    u_me = np.array([u.mass_eccentricity_kg_m for u in t.unbalance], float)
+    u_ph = np.radians([u.phase_deg for u in t.unbalance]).astype(float)
+    xl = t.external_loads
+    nodes = [model.node_of(x.at.shaft, x.at.node) for x in xl]
+    x_dof = np.array([6 * nd + _DOF[x.dof] for nd, x in zip(nodes, xl, strict=True)], np.int64)
+    return (u_dof, u_me, u_ph, x_dof,
+            np.array([x.value for x in xl], float), np.array([x.amplitude for x in xl], float),
+            np.array([x.frequency_hz for x in xl], float),
+            np.array([x.order for x in xl], float),
+            np.array([6 * nd + 5 for nd in nodes], np.int64),
+            np.radians([x.phase_deg for x in xl]).astype(float))
 
 
 def _shaft_of(model: TransmissionModel, node: int) -> str:
