@@ -134,3 +134,18 @@ def test_helical_mean_stiffness_against_quadrature(n_slices: int, tol: float) ->
     # contact spread give 3e-3 / 3e-4
     assert t.total.mean() == pytest.approx(ref, rel=tol)
     assert np.abs(np.diff(t.total)).max() < 0.03 * ref
+
+
+def test_fault_tooth_index_checked_per_gear_and_sampling_bounds() -> None:
+    """Tooth indices are checked against the faulty gear's own tooth count (0..z − 1);
+    n_per_cycle ≥ 4."""
+    from geardyn.errors import InputError
+
+    g = seed002_low()  # 42/55
+    with pytest.raises(InputError, match="gear a: tooth 42 outside 0..41"):
+        mesh_stiffness(g, faults=[Crack(gear="a", tooth=42, depth=1e-3)])
+    with pytest.raises(InputError, match="gear b: tooth 55 outside 0..54"):
+        mesh_stiffness(g, faults=[Crack(gear="b", tooth=55, depth=1e-3)])
+    mesh_stiffness(g, n_per_cycle=4, faults=[Crack(gear="b", tooth=54, depth=1e-3)])
+    with pytest.raises(InputError, match="n_per_cycle must be ≥ 4"):
+        mesh_stiffness(g, n_per_cycle=3)
