@@ -48,6 +48,11 @@ def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: AN
         raise InputError(f"seed: must be an integer >= 0, got {seed!r}")
     if t_end_s is not None and not (math.isfinite(t_end_s) and t_end_s > 0):
         raise InputError(f"t_end_s: must be a finite time > 0 s, got {t_end_s!r}")
+    from geardyn.config.sensors import sensor_name_problems
+
+    problems = sensor_name_problems(cfg)  # before the run, not after it
+    if problems:
+        raise InputError("\n".join(problems))
     pdyn = getattr(cfg, "planetary_dynamics", None)
     ctl = control or RunControl(progress=progress)
     if progress is not None and ctl.progress is None:
@@ -57,12 +62,13 @@ def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: AN
     elif getattr(cfg, "dynamics", None) is not None and cfg.dynamics.simulation is not None:
         from geardyn.models.core.simulate import simulate as simulate_mechanism
 
-        ds = simulate_mechanism(cfg, t_end_s, ctl.progress)
+        ds = simulate_mechanism(cfg, t_end_s, control=ctl)
     elif getattr(cfg, "transmission", None) is not None:
         ds = _transmission(cfg, revolutions, t_end_s, ctl)
     else:
-        raise ConfigError("nothing to simulate: the config has neither a [planetary_dynamics] "
-                          "section with [planetary_dynamics.simulation] nor [transmission]")
+        raise ConfigError("nothing to simulate: the config has no [planetary_dynamics] section "
+                          "with [planetary_dynamics.simulation], no [dynamics] section with "
+                          "[dynamics.simulation] and no [transmission]")
     return add_sensors(cfg, ds, int(seed))
 
 

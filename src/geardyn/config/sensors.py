@@ -125,9 +125,13 @@ def model_names(cfg: object) -> tuple[set[str] | None, set[str] | None]:
     planetary bodies — ``sun``, ``ring``, ``carrier``, ``planetN``, stage-prefixed when there
     are several stages —, rotors, FE shafts and their links) and accelerometer locations
     (``ring``, bearings of the mechanism, of the FE model and planetary bodies). None when a
-    config section whose bodies are named at run time is present (``[dynamics]``)."""
-    if getattr(cfg, "dynamics", None) is not None:
-        return None, None
+    config section whose bodies are named at run time is present (``[dynamics]``: its shafts are
+    the moving links and rotors, its accelerometer locations known only once it is built)."""
+    dy = getattr(cfg, "dynamics", None)
+    if dy is not None:
+        frame = getattr(cfg, "frame", None)
+        shafts = {lk.name for lk in getattr(cfg, "links", []) if lk.name != frame}
+        return shafts | {r.name for r in dy.rotors}, None
     shafts = {lk.name for lk in getattr(cfg, "links", [])}
     locations = {"ring"} | {b.name for b in getattr(cfg, "bearings", []) if b.name}
     pd = getattr(cfg, "planetary_dynamics", None)

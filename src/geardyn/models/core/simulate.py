@@ -29,6 +29,7 @@ from geardyn.operating import (
     reference_angle_table,
 )
 from geardyn.results import finish, shaft_variables
+from geardyn.solve.control import RunControl
 from geardyn.solve.integrate import (
     FLUID_COUPLING,
     SPEED_CONTROL,
@@ -210,19 +211,23 @@ def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> np.
     return q
 
 
-def integrate(p: Prepared, progress: Callable[[float], None] | None = None
-              ) -> IntegrationResult:
-    """Run the prepared system with the configured solver."""
+def integrate(p: Prepared, progress: Callable[[float], None] | None = None,
+              control: RunControl | None = None) -> IntegrationResult:
+    """Run the prepared system with the configured solver. ``control``
+    (:class:`~geardyn.solve.control.RunControl`: progress, stop requests, checkpoints) drives the
+    compiled Newmark loop; the low-rank solver takes its progress callback only."""
     sim = p.sim
     if sim.solver == "lowrank":
         from geardyn.solve.lowrank import newmark_lowrank
 
+        if progress is None and control is not None:
+            progress = control.progress
         return newmark_lowrank(p.system, p.q0, p.v0, p.t_end_s, sim.dt_s,
                                save_every=sim.save_every, alpha=sim.hht_alpha, progress=progress)
     from geardyn.solve.integrate import newmark
 
     return newmark(p.system, p.q0, p.v0, p.t_end_s, sim.dt_s, save_every=sim.save_every,
-                   alpha=sim.hht_alpha, progress=progress)
+                   alpha=sim.hht_alpha, progress=progress, control=control)
 
 
 def to_dataset(model: CoreModel, res: IntegrationResult, reference: str,
@@ -259,12 +264,29 @@ def to_dataset(model: CoreModel, res: IntegrationResult, reference: str,
 
 
 def simulate(cfg: object, t_end_s: float | None = None,
-             progress: Callable[[float], None] | None = None) -> xr.Dataset:
-    """Simulate the config's ``[dynamics]`` model; result in the layout of docs/results.md."""
+             progress: Callable[[float], None] | None = None,
+             control: RunControl | None = None) -> xr.Dataset:
+    """Simulate the config's ``[dynamics]`` model; result in the layout of docs/results.md.
+
+    The time step is checked before the run (shortest natural period, mesh period at the initial
+    speeds: refused or warned naming ``dynamics.simulation.dt_s``) and the energy balance after it
+    (status ``suspect`` when it does not close; not booked with an inertia schedule or the
+    low-rank solver)."""
+    from geardyn.solve.sanity import check_energy, check_time_step, mesh_period, shortest_period
+
     p = prepare(cfg, t_end_s)
-    res = integrate(p, progress)
+    check_time_step(p.sim.dt_s, "dynamics.simulation.dt_s", shortest_period(p.system),
+                    mesh_period(p.system, [p.v0]))
+    res = integrate(p, progress, control)
     ref = next(iter(getattr(cfg, "input_speeds_rpm", {}) or {}), "")
     if p.sim.motor is not None:
         ref = p.sim.motor.rotor
-    return to_dataset(p.model, res, ref, {"dt_s": p.sim.dt_s, "hht_alpha": p.sim.hht_alpha,
-                                          "solver": p.sim.solver})
+    ds = to_dataset(p.model, res, ref, {"dt_s": p.sim.dt_s, "hht_alpha": p.sim.hht_alpha,
+                                        "solver": p.sim.solver})
+    ds.attrs.update({f"energy_{k}": v for k, v in res.energy.items()})
+    if ds.attrs["status"] == "ok" and len(p.system.mass_schedule.dof) == 0:
+        problem = check_energy(res.energy)
+        if problem:
+            ds.attrs["status"] = "suspect"
+            ds.attrs["diagnosis"] = problem
+    return ds
