@@ -22,14 +22,17 @@ import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-import xarray as xr
 
 from geardyn.bearings.frequencies import bearing_frequencies
 from geardyn.errors import InputError
 from geardyn.kinematics.willis import KinematicAnalysis
+
+if TYPE_CHECKING:  # imported where used: pandas costs ~0.6 s and most commands never need it
+    import pandas as pd
+    import xarray as xr
 
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 TWO_PI = 2.0 * math.pi
@@ -77,6 +80,8 @@ class CharacteristicFrequencies:
 
     def to_xarray(self) -> xr.Dataset:
         """One dataset with dims ``link``, ``mesh``, ``wheel``, ``bearing``, ``planet_set``."""
+        import xarray as xr
+
         dims = {
             "links": "link",
             "meshes": "mesh",
@@ -149,6 +154,8 @@ def characteristic_frequencies(
     ``order_reference`` names the link whose rotation frequency defines order 1 (default: the
     first input link).
     """
+    import pandas as pd
+
     if not input_speeds_rpm:
         raise InputError(
             f"no input speeds given: the mechanism has {analysis.dof} DOF; give "
@@ -342,6 +349,8 @@ def frequency_tracks(
     ``ftf_hz``. Orders do not change along the profile (kinematic ratios are constant), so
     they are given by :func:`characteristic_frequencies`.
     """
+    import xarray as xr
+
     arrays = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in input_speeds_rpm.items()}
     lengths = {v.shape for v in arrays.values()}
     if len(lengths) != 1 or len(next(iter(lengths))) != 1:

@@ -16,14 +16,17 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from geardyn.errors import InputError, KinematicsError
 from geardyn.kinematics.graph import GearMesh, MechanismGraph
+
+if TYPE_CHECKING:  # imported where used (~0.6 s): config loading calls this module
+    import pandas as pd
 
 #: Relative singular-value threshold used for rank decisions on the row-normalised M.
 RANK_RTOL = 1e-9
@@ -183,6 +186,8 @@ class KinematicAnalysis:
 
         Gear entries read ``N∠θ°`` (``N·e^{iθ}``), turning-pair entries ``level=<axis>``.
         """
+        import pandas as pd
+
         n = len(self.links)
         cells = [["" for _ in range(n)] for _ in range(n)]
         for i in range(n):
@@ -196,6 +201,8 @@ class KinematicAnalysis:
 
     def constraint_frame(self) -> pd.DataFrame:
         """The constraint matrix M (seed 000 eq 3) with named rows and columns."""
+        import pandas as pd
+
         rows = ["frame", *[m.name for m in self.graph.meshes]]
         return pd.DataFrame(self.M, index=rows, columns=self.links)
 
