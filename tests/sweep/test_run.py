@@ -140,6 +140,23 @@ def test_case_is_reproducible_alone(reference: Path, spec_path: Path) -> None:
     ch = channel(res, "ring_acc")
     values, _ = _decimated(ch.values, ch.time, 4, ch.sampling)
     np.testing.assert_array_equal(ds["channels.ring_acc"].values[4], values[-600:])
+    # states: the result's speeds at t = 0, 0.1, … 2 s, matched by shaft name (the store
+    # sorts the shafts); the grid falls on output instants (dt_s = 1e-4 s)
+    grid = np.round(ds["state_time"].values / 1e-4).astype(int)
+    for shaft in [str(x) for x in res["shaft"].values]:
+        np.testing.assert_allclose(ds["state.speed"].sel(shaft=shaft).values[4],
+                                   res["speed"].sel(shaft=shaft).values[grid], rtol=1e-9,
+                                   atol=1e-12)
+    # indicators: the features of the result, matched by component and indicator name
+    from geardyn.diagnosis.features import features_from_result
+
+    table = features_from_result(res, parse_config(sw.case_config(case)), "ring_acc",
+                                 n_blocks=1).table
+    assert len(table) > 0
+    for _, r in table.iterrows():
+        stored = ds["indicators"].sel(component=r["component"], indicator=r["indicator"],
+                                      block=r["block"]).values[4]
+        assert stored == r["value"] or (np.isnan(stored) and np.isnan(r["value"]))
 
 
 def test_two_workers_identical_to_one(reference: Path, spec_path: Path, cluster,  # noqa: ANN001
