@@ -44,6 +44,17 @@ def write_atomic(path: str | os.PathLike, write: Callable[[Path], None]) -> None
             tmp.unlink()
 
 
+def save_figure(fig, path: str | os.PathLike, **kwargs) -> None:  # noqa: ANN001 - Figure
+    """``fig.savefig`` through :func:`write_atomic` (format from ``path``'s suffix)."""
+    fmt = kwargs.pop("format", None) or Path(path).suffix.lstrip(".") or None
+    write_atomic(path, lambda tmp: fig.savefig(tmp, format=fmt, **kwargs))
+
+
+def write_text(path: str | os.PathLike, text: str) -> None:
+    """Write ``text`` (UTF-8) through :func:`write_atomic`."""
+    write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
 def check_output(path: str | os.PathLike, option: str, overwrite: bool = False) -> Path:
     """Refuse an output path before the run: missing or unwritable directory, a directory at
     the path, or an existing file unless ``overwrite``."""

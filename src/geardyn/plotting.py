@@ -79,9 +79,12 @@ def labelled_colorbar(mappable: Any, ax: Axes, label: str) -> Colorbar:
 
 def save_figure(fig: Figure, path: str | Path, dpi: int = 110) -> Path:
     """Write ``fig`` (format from the suffix) and close it; returns the path. For the CLI."""
-    out = Path(path)
-    fig.savefig(out, dpi=dpi)
     import matplotlib.pyplot as plt
+
+    from geardyn.checkpoint import save_figure as save_atomic
+
+    out = Path(path)
+    save_atomic(fig, out, dpi=dpi)
 
     plt.close(fig)
     return out

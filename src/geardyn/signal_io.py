@@ -245,7 +245,10 @@ def write_signal_netcdf(
     if pulse_times is not None:
         ds["pulse_times"] = (("pulse",), np.asarray(pulse_times, dtype=float), {"units": "s"})
     p = Path(path)
-    ds.to_netcdf(p, engine="scipy")  # NetCDF3 via scipy: no HDF5 library needed
+    from geardyn.checkpoint import write_atomic
+
+    # NetCDF3 via scipy (no HDF5 library needed), written aside and renamed
+    write_atomic(p, lambda tmp: ds.to_netcdf(tmp, engine="scipy"))
     return p
 
 

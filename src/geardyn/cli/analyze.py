@@ -287,14 +287,14 @@ def analyze(
     cep = power_cepstrum(x_ang - x_ang.mean(), spr)
     figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, revolutions / 2),
                                          title="Power cepstrum (quefrency in revolutions)")
-    import matplotlib.pyplot as plt
+    from geardyn.checkpoint import write_atomic, write_text
+    from geardyn.plotting import save_figure
 
     for name, fig in figs.items():
-        fig.savefig(out / name, dpi=110)
-        plt.close(fig)
-    pd.DataFrame(rows).to_csv(out / "indicators.csv", index=False)
-    markers.to_csv(out / "markers.csv", index=False)
-    spec.to_netcdf(out / "order_spectrum.nc", engine="scipy")
+        save_figure(fig, out / name, dpi=110)
+    write_text(out / "indicators.csv", pd.DataFrame(rows).to_csv(index=False))
+    write_text(out / "markers.csv", markers.to_csv(index=False))
+    write_atomic(out / "order_spectrum.nc", lambda tmp: spec.to_netcdf(tmp, engine="scipy"))
     console.print(
         f"[bold]{label}[/]: reference '{ref}' {rpm:.6g} rpm; {revolutions:.1f} revs at {spr} "
         f"samples/rev (orders ≤ {max_valid:.4g} valid)"

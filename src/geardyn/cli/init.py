@@ -31,6 +31,8 @@ def init_cmd(
     if path.exists() and not force:
         raise InputError(f"FILE: '{path}' exists; choose another name or pass --force")
     check_output_file(path, "FILE")
-    path.write_text(render(template, str(path)))
+    from geardyn.checkpoint import write_text
+
+    write_text(path, render(template, str(path)))
     console.print(f"wrote {path} ({TEMPLATES[template][0]}); edit it, then e.g. "
                   f"geardyn kinematics {path}")

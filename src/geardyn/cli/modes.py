@@ -68,7 +68,9 @@ def modes_cmd(
                   row["type"], row["dominant_motion"], row["dominant_strain"])
     console.print(t)
     if netcdf is not None:
-        res.to_dataset().to_netcdf(netcdf, engine="h5netcdf")
+        from geardyn.checkpoint import write_atomic
+
+        write_atomic(netcdf, lambda tmp: res.to_dataset().to_netcdf(tmp, engine="h5netcdf"))
         console.print(f"wrote {netcdf}")
     if plot is not None:
         from geardyn.plotting import save_figure

@@ -37,5 +37,7 @@ def schema_cmd(
     if out is None:
         typer.echo(text)
     else:
-        out.write_text(text + "\n")
+        from geardyn.checkpoint import write_text
+
+        write_text(out, text + "\n")
         console.print(f"schema written to {out}")

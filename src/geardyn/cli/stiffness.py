@@ -90,7 +90,10 @@ def stiffness_cmd(
             t.add_row("loaded: mean W/STE (N/m)", f"{ste.secant_stiffness.mean():.4e}")
         console.print(t)
         if netcdf is not None:
-            (faulty or healthy).to_xarray().to_netcdf(netcdf, engine="h5netcdf")
+            from geardyn.checkpoint import write_atomic
+
+            table = (faulty or healthy).to_xarray()
+            write_atomic(netcdf, lambda tmp, table=table: table.to_netcdf(tmp, engine="h5netcdf"))
             console.print(f"table written to {netcdf}")
         if plot is not None:
             plot_stiffness(healthy, plot, faulty)

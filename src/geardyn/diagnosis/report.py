@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from geardyn.checkpoint import write_text
 from geardyn.diagnosis.verdict import Verdict
 
 if TYPE_CHECKING:
@@ -500,5 +501,5 @@ def write_report(
             f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body>"
             + "\n".join(b for b in body if b) + "</body></html>\n")
     path = out / "report.html"
-    path.write_text(page, encoding="utf-8")
+    write_text(path, page)
     return path

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from geardyn.checkpoint import write_text
 from geardyn.diagnosis.baseline import KEYS, ThresholdRule, check_table, direction
 from geardyn.diagnosis.faults import ConfiguredFault
 
@@ -188,7 +189,7 @@ class Verdict:
         p = Path(path)
         if p.suffix != ".json":
             p = p / "verdict.json"
-        p.write_text(json.dumps(self.to_dict(), indent=2, ensure_ascii=False) + "\n")
+        write_text(p, json.dumps(self.to_dict(), indent=2, ensure_ascii=False) + "\n")
         return p
 
 

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from geardyn.checkpoint import save_figure
 from geardyn.errors import InputError
 
 
@@ -87,7 +88,7 @@ def write_figures(ds: xr.Dataset, cfg, outdir: Path, shaft: str = "output",  # n
     fig = plot_spectrum(spec, mk, xmax=order_max,
                         title=f"IAS order spectrum, {shaft} shaft {label}")
     p = outdir / f"ias_spectrum_{shaft}{label}.png"
-    fig.savefig(p, dpi=120)
+    save_figure(fig, p, dpi=120)
     plt.close(fig)
     paths.append(p)
     revs = w.size / 1000
@@ -95,13 +96,13 @@ def write_figures(ds: xr.Dataset, cfg, outdir: Path, shaft: str = "output",  # n
         m = angular_spectrogram(w - w.mean(), 1000, revs_per_segment=min(8.0, revs / 4))
         fig = plot_map(m, ymax=order_max, title=f"IAS angular spectrogram, {shaft} {label}")
         p = outdir / f"ias_spectrogram_{shaft}{label}.png"
-        fig.savefig(p, dpi=120)
+        save_figure(fig, p, dpi=120)
         plt.close(fig)
         paths.append(p)
     cep = power_cepstrum(w - w.mean(), 1000.0)
     fig = plot_cepstrum(cep, qmax=3.0, title=f"IAS cepstrum (quefrency in rev), {shaft} {label}")
     p = outdir / f"ias_cepstrum_{shaft}{label}.png"
-    fig.savefig(p, dpi=120)
+    save_figure(fig, p, dpi=120)
     plt.close(fig)
     paths.append(p)
     return paths
@@ -164,7 +165,7 @@ def seed002_figures(cfg, outdir: Path, nsc: bool = True) -> list[Path]:  # noqa:
 
     def save(fig, name: str) -> None:  # noqa: ANN001
         p = outdir / name
-        fig.savefig(p, dpi=110)
+        save_figure(fig, p, dpi=110)
         plt.close(fig)
         paths.append(p)
 
