@@ -99,6 +99,10 @@ class MeshConfig(_Strict):
     off_line_of_action: bool = Field(
         True, description="extended contact outside the path (seed 002 §2.5.1; spur pairs)"
     )
+    backlash_m: float | None = Field(
+        None, ge=0, description="normal backlash along the line of action: tooth separation "
+        "and back-flank contact (default: drive flank only)"
+    )
 
 
 class TorqueConfig(_Strict):

@@ -73,6 +73,10 @@ class Meshes:
     csf: np.ndarray
     estar: np.ndarray
     gap: np.ndarray
+    Vb: np.ndarray
+    """Back-flank slice vectors (mirrored line of action)."""
+    backlash: np.ndarray
+    """Normal backlash j_bn [m] per mesh; < 0: drive flank only."""
     geometry: list = field(default_factory=list)
     tables: list = field(default_factory=list)
 
@@ -80,7 +84,7 @@ class Meshes:
         return (
             self.na, self.nb, self.V, self.nsl, self.tlen, self.npc, self.za, self.s,
             self.xi0, self.ks, self.length, self.rsum, self.rhoa, self.rhob, self.npair,
-            self.that, self.mu, self.csf, self.estar, self.gap,
+            self.that, self.mu, self.csf, self.estar, self.gap, self.Vb, self.backlash,
         )
 
 
@@ -311,7 +315,9 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         rhob=np.zeros((nm, nmax, pmax)), npair=np.zeros(nm, np.int64), that=np.zeros((nm, 3)),
         mu=np.array([m.friction_coefficient for m in t.meshes], float),
         csf=np.array([m.squeeze_film_ns_per_m for m in t.meshes], float),
-        estar=np.zeros(nm), gap=np.zeros((nm, nmax, pmax)),
+        estar=np.zeros(nm), gap=np.zeros((nm, nmax, pmax)), Vb=np.zeros((nm, smax, 12)),
+        backlash=np.array([-1.0 if m.backlash_m is None else m.backlash_m for m in t.meshes],
+                          float),
         geometry=geoms, tables=tabs,
     )
     for i, mc in enumerate(t.meshes):
@@ -346,18 +352,22 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         nvec = math.sin(al) * e + s * math.cos(al) * eperp
         that = np.cross([0.0, 0.0, 1.0], nvec)
         Mh.that[i] = that
-        hand = s * math.copysign(1.0, g.helix_angle) if g.helix_angle != 0 else 0.0
-        n3 = nvec + np.array([0.0, 0.0, hand * math.tan(abs(g.base_helix_angle))])
         rho0 = g.base_radius[0] * math.tan(al)
         zk = (np.arange(mc.slices) + 0.5) / mc.slices * g.face_width - 0.5 * g.face_width
-        for k in range(mc.slices):
-            p_a = -s * g.base_radius[0] * that + rho0 * nvec + np.array([0.0, 0.0, zk[k]])
-            p_b = p_a + (pa - pb) * np.array([1.0, 1.0, 0.0])
-            p_b[2] = zk[k]
-            Mh.V[i, k, :3] = n3
-            Mh.V[i, k, 3:6] = np.cross(p_a, n3)
-            Mh.V[i, k, 6:9] = -n3
-            Mh.V[i, k, 9:12] = -np.cross(p_b, n3)
+        # drive flank (sense s), back flank: the mirrored line of action (sense −s)
+        for V, sf in ((Mh.V, s), (Mh.Vb, -s)):
+            nvec = math.sin(al) * e + sf * math.cos(al) * eperp
+            that = np.cross([0.0, 0.0, 1.0], nvec)
+            hand = sf * math.copysign(1.0, g.helix_angle) if g.helix_angle != 0 else 0.0
+            n3 = nvec + np.array([0.0, 0.0, hand * math.tan(abs(g.base_helix_angle))])
+            for k in range(mc.slices):
+                p_a = -sf * g.base_radius[0] * that + rho0 * nvec + np.array([0.0, 0.0, zk[k]])
+                p_b = p_a + (pa - pb) * np.array([1.0, 1.0, 0.0])
+                p_b[2] = zk[k]
+                V[i, k, :3] = n3
+                V[i, k, 3:6] = np.cross(p_a, n3)
+                V[i, k, 6:9] = -n3
+                V[i, k, 9:12] = -np.cross(p_b, n3)
     drive_node, load_node = node(t.drive.at), node(t.load.at)
     return TransmissionModel(
         M=M, K=K, node_xyz=node_xyz, shaft_nodes=shaft_nodes, shaft_sign=sign, bearings=B,

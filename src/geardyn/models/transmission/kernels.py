@@ -22,6 +22,13 @@ monotone from below since δ(F) is concave); squeeze-film damping (α_eng/K) δ�
 slices in contact; Coulomb
 friction μ F_p per tooth pair p (eq 10) along the profile tangent, regularised by
 tanh(v_s/v_reg), with pair load shares and contact positions from the same table.
+
+Backlash (optional, per mesh ``m_bl`` ≥ 0, normal backlash j_bn along the line of action;
+< 0: drive flank only): the back flanks act along the mirrored line of action (the other
+common tangent of the base circles, slice vectors ``m_Vb``), closing when V_b·q > j_bn; their
+force uses the same pair stiffness table at the same mesh phase (symmetric teeth, the phase
+offset between the two flanks' mesh cycles neglected), squeeze film likewise, no friction.
+Between the flanks (−j_bn < δ < 0) the teeth separate and carry no load (vibro-impacts).
 """
 
 from __future__ import annotations
@@ -128,10 +135,12 @@ def johnson_force(delta, ks, width, estar, rsum):  # pragma: no cover - compiled
 def mesh_forces(
     q, v, f, diss,
     m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0,
-    m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_force,
+    m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
+    m_force,
 ):  # pragma: no cover - compiled
     """Add gear-mesh forces to ``f``; diss[2] += friction power, diss[3] += squeeze-film
-    power; ``m_force[i]`` receives the total normal (transverse LOA) contact force of mesh i."""
+    power; ``m_force[i]`` receives the total normal (transverse LOA) contact force of mesh i
+    (drive flank positive, back flank negative)."""
     for i in range(m_na.size):
         a0 = 6 * m_na[i]
         b0 = 6 * m_nb[i]
@@ -151,12 +160,21 @@ def mesh_forces(
         dut = (v[a0] - v[b0]) * tx + (v[a0 + 1] - v[b0 + 1]) * ty
         wa = v[a0 + 5]
         wb = v[b0 + 5]
-        for k in range(nsl):
+        nfl = 2 if m_bl[i] >= 0.0 else 1
+        for ksl in range(nfl * nsl):
+            k = ksl % nsl
+            back = ksl >= nsl
             d = 0.0
             dd = 0.0
-            for m in range(6):
-                d += m_V[i, k, m] * q[a0 + m] + m_V[i, k, 6 + m] * q[b0 + m]
-                dd += m_V[i, k, m] * v[a0 + m] + m_V[i, k, 6 + m] * v[b0 + m]
+            if back:
+                for m in range(6):
+                    d += m_Vb[i, k, m] * q[a0 + m] + m_Vb[i, k, 6 + m] * q[b0 + m]
+                    dd += m_Vb[i, k, m] * v[a0 + m] + m_Vb[i, k, 6 + m] * v[b0 + m]
+                d -= m_bl[i]
+            else:
+                for m in range(6):
+                    d += m_V[i, k, m] * q[a0 + m] + m_V[i, k, 6 + m] * q[b0 + m]
+                    dd += m_V[i, k, m] * v[a0 + m] + m_V[i, k, 6 + m] * v[b0 + m]
             if d <= 0.0:
                 continue
             fk = 0.0
@@ -184,7 +202,7 @@ def mesh_forces(
                 fp = johnson_force(dp, ks / nsl, m_len[i, ii, pp] / nsl, m_estar[i],
                                    m_rsum[i, ii, pp])
                 fk += fp
-                if m_mu[i] > 0.0:
+                if m_mu[i] > 0.0 and not back:
                     ra = m_rhoa[i, ii, pp]
                     rb = m_rhob[i, ii, pp]
                     vs = dut + wa * ra + wb * rb
@@ -197,11 +215,18 @@ def mesh_forces(
                     f[b0 + 5] -= ff * rb
                     diss[2] += ff * vs
             if fk > 0.0:
-                ftot += fk
                 fv = cs * dd
                 diss[3] += fv * dd
-                fk += fv
-                for m in range(6):
-                    f[a0 + m] -= fk * m_V[i, k, m]
-                    f[b0 + m] -= fk * m_V[i, k, 6 + m]
+                if back:
+                    ftot -= fk
+                    fk += fv
+                    for m in range(6):
+                        f[a0 + m] -= fk * m_Vb[i, k, m]
+                        f[b0 + m] -= fk * m_Vb[i, k, 6 + m]
+                else:
+                    ftot += fk
+                    fk += fv
+                    for m in range(6):
+                        f[a0 + m] -= fk * m_V[i, k, m]
+                        f[b0 + m] -= fk * m_V[i, k, 6 + m]
         m_force[i] = ftot
