@@ -158,3 +158,35 @@ def test_faults_that_cannot_act_are_rejected(fault, fragment):
     with pytest.raises(ConfigError) as exc:
         parse_config(_with(entry))
     assert fragment in str(exc.value) and "gear_geometry[0]" in str(exc.value)
+
+
+def test_trochoid_fillet_from_the_config_equals_the_python_blank():
+    """`root_fillet = "trochoid"` (and the rack tip radius) in [[gear_geometry]] reach the PE
+    stiffness: the table equals the one of the Python GearBlank of tests/gears/test_trochoid.py
+    (validated there against ROSS), and differs from the involute-root default."""
+    from geardyn.gears.geometry import GearBlank, Material, mesh_geometry
+
+    base = {"frame": "housing", "links": ["housing", "in", "out"],
+            "parallel": [{"name": "p", "a": {"link": "in", "teeth": 62},
+                          "b": {"link": "out", "teeth": 62}}]}
+    wheel = {"rim_radius_m": 0.0175, "youngs_modulus_pa": 206e9, "poisson_ratio": 0.3,
+             "density_kg_m3": 7810.0, "root_fillet": "trochoid"}
+    entry = {"pair": "p", "normal_module_m": 0.002, "face_width_m": 0.02, "a": wheel,
+             "b": wheel}
+    d = dict(base, gear_geometry=[entry])
+    cfg = parse_config(d)
+    pm = pair_model(cfg, "p")
+    mat = Material(206e9, 0.3, 7810.0)
+    bl = GearBlank(62, rim_radius=0.0175, material=mat, root_fillet="trochoid")
+    ref = mesh_geometry(bl, bl, 0.002, np.radians(20.0), 0.020)
+    k_cfg = mesh_stiffness(pm.geometry, n_per_cycle=16).total
+    k_ref = mesh_stiffness(ref, n_per_cycle=16).total
+    np.testing.assert_allclose(k_cfg, k_ref, rtol=1e-12)
+    inv = dict(wheel, root_fillet="involute")
+    pm_inv = pair_model(parse_config(dict(base, gear_geometry=[dict(entry, a=inv, b=inv)])), "p")
+    assert mesh_stiffness(pm_inv.geometry, n_per_cycle=16).total.mean() < k_cfg.mean() / 1.05
+    # a rack tip radius is a length > 0, and only two fillet kinds exist
+    for bad, field in (({"rack_tip_radius_m": -1e-4}, "rack_tip_radius_m"),
+                       ({"root_fillet": "circular"}, "root_fillet")):
+        with pytest.raises(ConfigError, match=field):
+            parse_config(dict(base, gear_geometry=[dict(entry, a=dict(wheel, **bad))]))

@@ -51,6 +51,13 @@ class WheelGeometry(_Model):
         None, ge=0, description="radius where the usable involute starts (m); 0 = base circle"
     )
     tip_round_m: float = Field(0.0, ge=0, description="tip edge round radius (m)")
+    root_fillet: Literal["involute", "trochoid"] = Field(
+        "involute", description="flank below the involute in the PE stiffness: 'involute' "
+        "(extended to the root, as the seed 002/004 tables) or 'trochoid' (the fillet cut by "
+        "the rack tip, Sainsot root angle θ_f = b1/r)")
+    rack_tip_radius_m: float | None = Field(
+        None, gt=0, description="generating rack tip radius ρ_fP (m; trochoid fillet; default "
+        "the full round of the basic rack)")
     normal_module_m: float | None = Field(
         None,
         gt=0,
@@ -163,6 +170,8 @@ def _build(cfg_entry: GearGeometryConfig, mesh, label: str) -> PairModel:  # noq
             rim_radius=w.rim_radius_m,
             tip_round=w.tip_round_m,
             form_radius=w.form_radius_m,
+            root_fillet=w.root_fillet,
+            rack_tip_radius=w.rack_tip_radius_m,
             material=Material(w.youngs_modulus_pa, w.poisson_ratio, w.density_kg_m3),
         )
 
