@@ -37,7 +37,7 @@ def _empty_bearings() -> tuple:
 def _empty_meshes() -> tuple:
     zi, z, z3 = np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 1, 1))
     return (zi, zi, np.zeros((0, 1, 12)), zi, zi, z, z, z, z, z3, z3, z3, z3, z3, zi,
-            np.zeros((0, 3)), z, z, z, z3)
+            np.zeros((0, 3)), z, z, z, z3, np.zeros((0, 1, 12)), z)
 
 
 def _disc_run(K, C, q0, v0, dt, n_steps, rec_dofs, gyro: bool, xargs=None):
