@@ -3,6 +3,7 @@ kill -9 of a worker, verdicts, the CLI. A tiny case: the seed 004 gearbox for 2 
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -196,7 +197,8 @@ def _start_and_signal(cmd: list[str], out: Path, sig: int, n_ok: int
         if out.exists() and list(statuses(out)).count("ok") >= n_ok:
             break
         time.sleep(0.05)
-    os.killpg(proc.pid, sig)  # SIGINT: as Ctrl-C in a terminal, to the process group
+    with contextlib.suppress(ProcessLookupError):  # already finished
+        os.killpg(proc.pid, sig)  # SIGINT: as Ctrl-C in a terminal, to the process group
     text, err = proc.communicate(timeout=120)
     return proc.returncode, text, err
 
@@ -218,8 +220,9 @@ def test_killed_then_interrupted_driver_resumes(reference: Path, spec_path: Path
     assert code in (130, 0), err
     if code == 130:
         assert "interrupted" in err and "Traceback" not in err, err
-        assert "run the same command again" in text
-    assert done.count("ok") > after_kill.count("ok")
+        if done.count("ok") < 6:  # (a Ctrl-C after the last case has nothing to resume)
+            assert "run the same command again" in text
+    assert done.count("ok") > after_kill.count("ok") or after_kill.count("ok") == 6
     summary = run(spec_path, out, client=cluster)  # the same command again: resumes
     assert summary.skipped == done.count("ok") and summary.run == 6 - summary.skipped
     assert_same_store(reference, out)
