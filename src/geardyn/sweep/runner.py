@@ -88,6 +88,19 @@ def _deferred_sigint() -> Iterator[None]:
         raise KeyboardInterrupt
 
 
+@contextlib.contextmanager
+def _quiet_on_interrupt() -> Iterator[None]:
+    """Restore distributed's log level after a run: on Ctrl-C :func:`_run_cases` silences it
+    while the cluster closes (connections cut mid-task log tracebacks that say nothing to the
+    user)."""
+    log = logging.getLogger("distributed")
+    level = log.level
+    try:
+        yield
+    finally:
+        log.setLevel(level)
+
+
 def _state_samples(sweep: Sweep) -> int | None:
     """Length of the state grid: up to the longest planetary run of the sweep (None when a
     case has no planetary simulation: the first result sets it)."""
@@ -203,7 +216,7 @@ def run(
     if progress is not None:
         progress(prog)
     if todo:
-        with contextlib.ExitStack() as stack:
+        with _quiet_on_interrupt(), contextlib.ExitStack() as stack:
             cl = client if client is not None else stack.enter_context(
                 _client(scheduler, n_workers))
             _run_cases(cl, sweep, out, todo, prog, progress)
@@ -241,7 +254,9 @@ def _run_cases(client: Any, sweep: Sweep, out: Path, todo: list[int], prog: Swee
             prog.failed += res["status"] == STATUS_FAILED
             if progress is not None:
                 progress(prog)
-    except BaseException:
+    except BaseException as exc:
+        if isinstance(exc, KeyboardInterrupt):
+            logging.getLogger("distributed").setLevel(logging.CRITICAL)
         for f in futures:
             if not f.done():
                 f.cancel()
