@@ -51,6 +51,45 @@ def _kernel_split(model, prep, n: int = 20000) -> dict[str, float]:
     return out
 
 
+def _scaled_cfg(elements: int):
+    """The stationary 400 rpm case with ``elements`` per shaft (node positions scaled)."""
+    from geardyn.config.loader import parse_config
+
+    k = elements // 5
+    d = _cfg(400.0, 400.0, 1.0).model_dump(exclude_none=True)
+    t = d["transmission"]
+    for s in t["shafts"]:
+        s["elements"] = elements
+    for item in [*t["wheels"], *t["bearings"], t["drive"], t["load"], t["speed_law"]]:
+        ref = item.get("at") or item.get("reference")
+        ref["node"] *= k
+    return parse_config(d)
+
+
+def _scaling_rows() -> list[dict]:
+    """CPU seconds per simulated revolution (integration only) against the element count;
+    target (issue 12): growth no faster than elements²."""
+    from geardyn.models.transmission import build_model, prepare, simulate
+
+    rows, els, cost = [], [], []
+    for el in (5, 10, 20):
+        cfg = _scaled_cfg(el)
+        prep = prepare(build_model(cfg), "output")
+        simulate(cfg, revolutions=0.02, prepared=prep)  # compile / cache load
+        c0 = time.process_time()
+        ds = simulate(cfg, revolutions=0.5, prepared=prep)
+        c = (time.process_time() - c0) / 0.5
+        els.append(3 * el)
+        cost.append(c)
+        rows.append({"case": f"{3 * el} shaft elements, 400 rpm: CPU s per revolution",
+                     "target": "-", "measured_s": c, "met": "", "steps": ds.attrs["steps"],
+                     "us_per_step": c * 0.5 / ds.attrs["steps"] * 1e6})
+    p = float(np.polyfit(np.log(els), np.log(cost), 1)[0])
+    rows.append({"case": "cost per revolution ∝ elements^p: p", "target": "<= 2",
+                 "measured_s": p, "met": p <= 2.0})
+    return rows
+
+
 def _solve_ivp_run(model, prep, duration: float) -> tuple[float, int]:
     """Straightforward first-order form y = (q, v) with scipy's LSODA (stiff/non-stiff
     switching) and the same kernels (constant drive torque = the static reaction)."""
@@ -110,12 +149,18 @@ def run() -> list[dict]:
                  "simulated_s": float(ds.time[-1])})
     nsc = _cfg(200.0, 900.0, 300.0)
     t0 = time.perf_counter()
+    c0 = time.process_time()
     ds = simulate(nsc, prepared=prep)
+    c_nsc = time.process_time() - c0
     t_nsc = time.perf_counter() - t0
     rows.append({"case": "NSC 200-900 rpm / 300 rev", "target": "<= 600 s",
                  "measured_s": t_nsc, "met": t_nsc <= 600.0, "steps": ds.attrs["steps"],
                  "us_per_step": ds.attrs["wall_integrate_s"] / ds.attrs["steps"] * 1e6,
                  "simulated_s": float(ds.time[-1])})
+    rows.append({"case": "NSC 200-900 rpm / 300 rev, CPU seconds (issue 12)",
+                 "target": "<= 12 CPU s", "measured_s": c_nsc, "met": c_nsc <= 12.0,
+                 "load_1min": os.getloadavg()[0]})
+    rows += _scaling_rows()
     rows.append({"case": "prepare (static Newton + FD Jacobian + eig)", "target": "-",
                  "measured_s": t_prep, "met": ""})
     split = _kernel_split(model, prep)

@@ -62,13 +62,21 @@ def bearing_forces(
         fy = 0.0
         fz = 0.0
         qsum = 0.0
+        # rolling-element angles by rotation: (c, s) of ψ_j+1 = rotation of (c, s) of ψ_j by
+        # 2π/Z (two trigonometric calls per bearing instead of two per element)
+        dc = math.cos(2.0 * math.pi / z)
+        ds = math.sin(2.0 * math.pi / z)
+        cn = math.cos(cage)
+        sn = math.sin(cage)
         for j in range(z):
-            psi = cage + 2.0 * math.pi * j / z
-            c = math.cos(psi)
-            s = math.sin(psi)
+            c = cn
+            s = sn
+            cn = c * dc - s * ds
+            sn = s * dc + c * ds
             ur = ux * c + uy * s
             red = 0.0
             if b_sp_depth[i] > 0.0:
+                psi = cage + 2.0 * math.pi * j / z
                 d = (psi - b_sp_ang[i]) % (2.0 * math.pi)
                 if d > math.pi:
                     d -= 2.0 * math.pi
