@@ -85,7 +85,8 @@ def _chain(tmp_path: Path, command: list[str], out: Path, reference: xr.Dataset)
 
 def test_simulate_planetary_sigkill_sigint_resume(tmp_path: Path) -> None:
     text = (EX / "planetary_reclaimer.toml").read_text()
-    text = text.replace("t_end_s = 0.05", "t_end_s = 10.0\nsave_every = 50")
+    # long enough (600,000 steps, ~1.5 s of CPU) for the SIGINT to arrive before the end
+    text = text.replace("t_end_s = 0.05", "t_end_s = 60.0\nsave_every = 50")
     cfg_path = tmp_path / "reclaimer.toml"
     cfg_path.write_text(text)
     reference = run_simulation(load_config(cfg_path), seed=3)

@@ -403,27 +403,26 @@ def _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, f
 
 
 @nb.njit(cache=True)
-def _dissipated_power(v, C0, sa, sc, closs, dout):
-    """vᵀC₀v plus Σ c (aᵀv)² of the mesh dampers in contact (W)."""
-    n = v.shape[0]
+def _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, dout):
+    """vᵀC₀v (C₀ in CSR) plus Σ c (aᵀv)² of the mesh dampers in contact (W)."""
     p = 0.0
-    for i in range(n):
+    for i in range(v.shape[0]):
         s = 0.0
-        for j in range(n):
-            s += C0[i, j] * v[j]
+        for k in range(c0p[i], c0p[i + 1]):
+            s += c0x[k] * v[c0i[k]]
         p += v[i] * s
-    for e in range(sa.shape[0]):
+    for e in range(an.shape[0]):
         if sc[e] == 0.0 or (closs[e] == 1 and dout[e] < 0.0):
             continue
         w = 0.0
-        for j in range(n):
-            w += sa[e, j] * v[j]
+        for k in range(an[e]):
+            w += ax[e, k] * v[ai[e, k]]
         p += sc[e] * w * w
     return p
 
 
 @nb.njit(cache=True)
-def _energy_step(t, q, v, dt, C0, sa, sc, closs, kout, eout,
+def _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, closs, kout, eout,
                  dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr,
                  en, ek, ee, ed, fbuf):
     """Energy accumulators over one step ending at state (q, v, t).
@@ -438,21 +437,19 @@ def _energy_step(t, q, v, dt, C0, sa, sc, closs, kout, eout,
     Δ(½kδ²) for any sequence of k and e."""
     pa, pg = _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
                             gg, gk, gr, fbuf)
-    ns = sa.shape[0]
-    n = q.shape[0]
     wp = 0.0
-    for e in range(ns):
+    for e in range(an.shape[0]):
         er = eout[e]
         d = er
-        for j in range(n):
-            d += sa[e, j] * q[j]
+        for j in range(an[e]):
+            d += ax[e, j] * q[ai[e, j]]
         k = kout[e]
         wp += 0.25 * (k - ek[e]) * (d * d + ed[e] * ed[e]) + 0.25 * (k + ek[e]) * (
             d + ed[e]) * (er - ee[e])
         ek[e] = k
         ee[e] = er
         ed[e] = d
-    pd = _dissipated_power(v, C0, sa, sc, closs, ed)
+    pd = _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, ed)
     en[0] += 0.5 * dt * (en[3] + pa)
     en[1] += 0.5 * dt * (en[4] + pd)
     en[2] += wp
@@ -463,78 +460,332 @@ def _energy_step(t, q, v, dt, C0, sa, sc, closs, kout, eout,
 
 
 @nb.njit(cache=True)
-def _newmark_start(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-                   dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-                   md, mc, mh, mtx, mty, mtl, gg, gk, gr, q, v, t0, acc, r0, kout, dout,
-                   en, ek, ee, ed):
-    """Initial acceleration M a = F − C v − K q at (q, v, t0) (into ``acc``; ``r0`` the
-    residual force), the springs' k and δ, and the energy accumulators' start values."""
-    n = q.shape[0]
-    ns = sa.shape[0]
-    M = np.empty((n, n))
-    C = np.empty((n, n))
-    K = np.empty((n, n))
-    f = np.empty(n)
-    eout = np.empty(ns)
-    _assemble(q, v, t0, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-              dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
-              gg, gk, gr,
-              M, C, K, f, kout, eout, dout)
-    r0[:] = f - C @ v - K @ q
-    acc[:] = np.linalg.solve(M, r0)
-    en[:] = 0.0
-    ek[:] = kout
-    ee[:] = eout
-    ed[:] = dout
-    en[3], en[6] = _applied_power(t0, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft,
-                                  fv, gg, gk, gr, f)
-    en[4] = _dissipated_power(v, C0, sa, sc, closs, dout)
+def _lu_solve(A, b):
+    """Solve A x = b in place (x into ``b``, ``A`` overwritten by its LU factors; Gaussian
+    elimination with partial pivoting, Golub & Van Loan alg. 3.4.1). A singular matrix gives
+    non-finite values, which the divergence check reports."""
+    n = b.shape[0]
+    for k in range(n):
+        p = k
+        amax = abs(A[k, k])
+        for i in range(k + 1, n):
+            if abs(A[i, k]) > amax:
+                amax = abs(A[i, k])
+                p = i
+        if p != k:
+            for j in range(n):
+                tmp = A[k, j]
+                A[k, j] = A[p, j]
+                A[p, j] = tmp
+            tmp = b[k]
+            b[k] = b[p]
+            b[p] = tmp
+        d = A[k, k]
+        for i in range(k + 1, n):
+            m = A[i, k] / d
+            if m != 0.0:
+                for j in range(k + 1, n):
+                    A[i, j] -= m * A[k, j]
+                b[i] -= m * b[k]
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for j in range(i + 1, n):
+            s -= A[i, j] * b[j]
+        b[i] = s / A[i, i]
 
 
 @nb.njit(cache=True)
-def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-                    dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-                    md, mc, mh, mtx, mty, mtl, gg, gk, gr,
+def _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+               kout, eout, dout, cout):
+    """k, e, δ = aᵀq + e and damping c of every variable spring at q (sparse a, b rows);
+    contact loss (δ < 0): k = c = 0 (seed 004 eq 3.2)."""
+    for e in range(sx0.shape[0]):
+        x = sx0[e]
+        for p in range(bn[e]):
+            x += bx[e, p] * q[bi[e, p]]
+        d = 0.0
+        for p in range(an[e]):
+            d += ax[e, p] * q[ai[e, p]]
+        k = _periodic(x, ktab[e], klen[e], kper[e])
+        er = _periodic(x, etab[e], elen[e], eper[e])
+        d += er
+        c = sc[e]
+        if closs[e] == 1 and d < 0.0:
+            k = 0.0
+            c = 0.0
+        kout[e] = k
+        eout[e] = er
+        dout[e] = d
+        cout[e] = c
+
+
+@nb.njit(cache=True)
+def _coupling_blocks(v, cidx, da, db, dha, dhb, dp0, dp1, blocks):
+    """Damping blocks of the fluid couplings linearised about v (rows/cols: DOFs a, b)."""
+    for j in range(cidx.shape[0]):
+        i = cidx[j]
+        a = da[i]
+        b = db[i]
+        wa = v[a] * dha[i]
+        wb = v[b] * dhb[i] * dp1[i]
+        ga = dp0[i] * (2.0 * wa - wb)
+        gb = -dp0[i] * wa
+        hb = dp1[i] * dhb[i]
+        blocks[j, 0, 0] = ga * dha[i] * dha[i]
+        blocks[j, 0, 1] = gb * hb * dha[i]
+        blocks[j, 1, 0] = -hb * ga * dha[i]
+        blocks[j, 1, 1] = -hb * gb * hb
+
+
+@nb.njit(cache=True)
+def _residual(q, v, f, kp, ki, kx, cp, ci, cx, ai, ax, an, kout, eout, cout, cidx, da, db,
+              blocks, gg, gk, om, out):
+    """out = f − C(t) v − K(t) q: constant part (CSR), Σ a (k (aᵀq + e) + c aᵀv) of the
+    variable springs, the coupling blocks and the gyroscopic terms Ω G v − Ω² K_Ω q."""
+    n = q.shape[0]
+    for i in range(n):
+        s = f[i]
+        for p in range(kp[i], kp[i + 1]):
+            s -= kx[p] * q[ki[p]]
+        for p in range(cp[i], cp[i + 1]):
+            s -= cx[p] * v[ci[p]]
+        out[i] = s
+    for e in range(an.shape[0]):
+        k = kout[e]
+        c = cout[e]
+        if k == 0.0 and c == 0.0:
+            continue
+        aq = eout[e]
+        av = 0.0
+        for p in range(an[e]):
+            aq += ax[e, p] * q[ai[e, p]]
+            av += ax[e, p] * v[ai[e, p]]
+        g = k * aq + c * av
+        for p in range(an[e]):
+            out[ai[e, p]] -= g * ax[e, p]
+    for j in range(cidx.shape[0]):
+        a = da[cidx[j]]
+        b = db[cidx[j]]
+        va = v[a]
+        vb = v[b]
+        out[a] -= blocks[j, 0, 0] * va + blocks[j, 0, 1] * vb
+        out[b] -= blocks[j, 1, 0] * va + blocks[j, 1, 1] * vb
+    for g in range(gg.shape[0]):
+        for i in range(n):
+            s = 0.0
+            for j in range(n):
+                s += om[g] * gg[g, i, j] * v[j] - om[g] * om[g] * gk[g, i, j] * q[j]
+            out[i] -= s
+
+
+@nb.njit(cache=True)
+def _gyro_rates(v, gr, om):
+    for g in range(gr.shape[0]):
+        s = 0.0
+        for j in range(v.shape[0]):
+            s += gr[g, j] * v[j]
+        om[g] = s
+
+
+@nb.njit(cache=True)
+def _mass_diag(q, M0, md, mc, mh, mtx, mty, mtl, dm):
+    """Changes M_ii(θ) − M₀_ii of the scheduled masses at q."""
+    for i in range(md.shape[0]):
+        dm[i] = _interp(q[mc[i]] * mh[i], mtx[i], mty[i], mtl[i]) - M0[md[i], md[i]]
+
+
+@nb.njit(cache=True)
+def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                    md, mc, mh, mtx, mty, mtl, gg, gk, gr, c0p, c0i, c0x, kp, ki, kx, cp, ci, cx,
+                    ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, cidx,
+                    A0, A0inv, Z, UZ, kbar, cbar, lowrank,
                     qs, vs, accs, r0s, t0, dt, step0, nsteps, save_every, alpha, qlim,
-                    Q, V, KS, DS, TS, en, ek, ee, ed, energy):
+                    Q, V, KS, DS, TS, en, ek, ee, ed, energy, start):
     """Fixed-step HHT-α/Newmark from global step ``step0`` over ``nsteps`` steps.
+
+    Step matrix A = M + (1 − α)(γΔt C + βΔt² K) = A₀ + U D Uᵀ (+ gyroscopic terms): A₀ the
+    constant part (mass, linear elements, speed controls, every variable spring at its mean
+    stiffness and damping), U the spring vectors aₑ, unit vectors of the fluid-coupling DOFs
+    (linearised damping block) and of the scheduled masses, D the deviations. ``lowrank``:
+    Sherman–Morrison–Woodbury with the precomputed A₀⁻¹, Z = A₀⁻¹U, UᵀZ (Golub & Van Loan
+    §2.1.4), x = y − Z (I + D UᵀZ)⁻¹ D Uᵀ y, y = A₀⁻¹ b; else A is formed and factored (LU).
 
     The state (q, v, a, r0: ``qs``, ``vs``, ``accs``, ``r0s``) and the energy accumulators are
     updated in place, so that chunks continue exactly; global step s is saved in row
     s // save_every when s is a multiple of ``save_every``. Returns (steps done, status,
-    offending DOF); t = t0 + s·dt. ``energy``: book the energy terms (:func:`_energy_step`)."""
+    offending DOF); t = t0 + s·dt. ``energy``: book the energy terms (:func:`_energy_step`).
+
+    ``start`` (with ``nsteps`` = 0): the initial acceleration M a = F − C v − K q at (q, v, t0)
+    (into ``accs``; ``r0s`` the residual force), the springs' k and δ (row 0 of ``KS``,
+    ``DS``) and the energy accumulators' start values. One kernel for both, written with loops
+    only (no array expressions, no slice assignments), to keep the compile time short."""
     n = qs.shape[0]
-    ns = sa.shape[0]
+    ns = sx0.shape[0]
+    nc = cidx.shape[0]
+    nm = md.shape[0]
+    m = Z.shape[1]
     beta = (1.0 + alpha) ** 2 / 4.0
     gamma = 0.5 + alpha
-    q = qs.copy()
-    v = vs.copy()
-    acc = accs.copy()
-    r0 = r0s.copy()
-    M = np.empty((n, n))
-    C = np.empty((n, n))
-    K = np.empty((n, n))
+    fa = 1.0 - alpha
+    sk = fa * beta * dt * dt
+    scd = fa * gamma * dt
+    q = np.empty(n)
+    v = np.empty(n)
+    acc = np.empty(n)
+    r0 = np.empty(n)
+    for i in range(n):
+        q[i] = qs[i]
+        v[i] = vs[i]
+        acc[i] = accs[i]
+        r0[i] = r0s[i]
+    qp = np.empty(n)
+    vp = np.empty(n)
     f = np.empty(n)
+    res = np.empty(n)
+    y = np.empty(n)
     fbuf = np.empty(n)
     kout = np.empty(ns)
     eout = np.empty(ns)
     dout = np.empty(ns)
+    cout = np.empty(ns)
+    blocks = np.zeros((nc, 2, 2))
+    om = np.zeros(gg.shape[0])
+    dm = np.zeros(nm)
+    w = np.empty(m)
+    cap = np.empty((m, m))
+    A = np.empty((n, n))
+    h1 = dt * dt * (0.5 - beta)
+    h2 = dt * (1.0 - gamma)
+    if start:
+        t = t0 + step0 * dt
+        _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc,
+                   closs, kout, eout, dout, cout)
+        _force_table(t, ft, fv, f)
+        _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
+        _coupling_blocks(v, cidx, da, db, dha, dhb, dp0, dp1, blocks)
+        _gyro_rates(v, gr, om)
+        _residual(q, v, f, kp, ki, kx, cp, ci, cx, ai, ax, an, kout, eout, cout, cidx, da,
+                  db, blocks, gg, gk, om, r0s)
+        _mass_diag(q, M0, md, mc, mh, mtx, mty, mtl, dm)
+        for i in range(n):
+            for j in range(n):
+                A[i, j] = M0[i, j]
+            accs[i] = r0s[i]
+        for i in range(nm):
+            A[md[i], md[i]] += dm[i]
+        _lu_solve(A, accs)
+        for i in range(en.shape[0]):
+            en[i] = 0.0
+        for e in range(ns):
+            ek[e] = kout[e]
+            ee[e] = eout[e]
+            ed[e] = dout[e]
+            KS[0, e] = kout[e]
+            DS[0, e] = dout[e]
+        en[3], en[6] = _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl,
+                                      ft, fv, gg, gk, gr, fbuf)
+        en[4] = _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, dout)
     for local in range(1, nsteps + 1):
         step = step0 + local
         t = t0 + step * dt
-        qp = q + dt * v + dt * dt * (0.5 - beta) * acc
-        vp = v + dt * (1.0 - gamma) * acc
-        _assemble(qp, vp, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc,
-                  closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-                  md, mc, mh, mtx, mty, mtl, gg, gk, gr, M, C, K, f, kout, eout, dout)
-        lhs = M + (1.0 - alpha) * (gamma * dt * C + beta * dt * dt * K)
-        rhs = (1.0 - alpha) * (f - C @ vp - K @ qp) + alpha * r0
-        acc_new = np.linalg.solve(lhs, rhs)
-        # HHT: r0 for the next step is the residual force at n+1 (without inertia)
-        q = qp + beta * dt * dt * acc_new
-        v = vp + gamma * dt * acc_new
-        r0 = f - C @ v - K @ q
-        acc = acc_new
+        for i in range(n):
+            qp[i] = q[i] + dt * v[i] + h1 * acc[i]
+            vp[i] = v[i] + h2 * acc[i]
+        _mesh_eval(qp, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc,
+                   closs, kout, eout, dout, cout)
+        _force_table(t, ft, fv, f)
+        _drive_forces(t, qp, vp, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
+        _coupling_blocks(vp, cidx, da, db, dha, dhb, dp0, dp1, blocks)
+        _gyro_rates(vp, gr, om)
+        _mass_diag(qp, M0, md, mc, mh, mtx, mty, mtl, dm)
+        _residual(qp, vp, f, kp, ki, kx, cp, ci, cx, ai, ax, an, kout, eout, cout, cidx, da,
+                  db, blocks, gg, gk, om, res)
+        for i in range(n):
+            res[i] = fa * res[i] + alpha * r0[i]
+        if lowrank:
+            for i in range(n):
+                s = 0.0
+                for j in range(n):
+                    s += A0inv[i, j] * res[j]
+                y[i] = s
+            # w = Uᵀy, then the rows of D (I + D UᵀZ)c = D w, block by block
+            for e in range(ns):
+                s = 0.0
+                for p in range(an[e]):
+                    s += ax[e, p] * y[ai[e, p]]
+                w[e] = s
+            for j in range(nc):
+                w[ns + 2 * j] = y[da[cidx[j]]]
+                w[ns + 2 * j + 1] = y[db[cidx[j]]]
+            for i in range(nm):
+                w[ns + 2 * nc + i] = y[md[i]]
+            for e in range(ns):
+                de = sk * (kout[e] - kbar[e]) + scd * (cout[e] - cbar[e])
+                for c in range(m):
+                    cap[e, c] = de * UZ[e, c]
+                cap[e, e] += 1.0
+                w[e] *= de
+            for j in range(nc):
+                r = ns + 2 * j
+                b00 = scd * blocks[j, 0, 0]
+                b01 = scd * blocks[j, 0, 1]
+                b10 = scd * blocks[j, 1, 0]
+                b11 = scd * blocks[j, 1, 1]
+                for c in range(m):
+                    cap[r, c] = b00 * UZ[r, c] + b01 * UZ[r + 1, c]
+                    cap[r + 1, c] = b10 * UZ[r, c] + b11 * UZ[r + 1, c]
+                cap[r, r] += 1.0
+                cap[r + 1, r + 1] += 1.0
+                w0 = w[r]
+                w[r] = b00 * w0 + b01 * w[r + 1]
+                w[r + 1] = b10 * w0 + b11 * w[r + 1]
+            for i in range(nm):
+                r = ns + 2 * nc + i
+                for c in range(m):
+                    cap[r, c] = dm[i] * UZ[r, c]
+                cap[r, r] += 1.0
+                w[r] *= dm[i]
+            _lu_solve(cap, w)
+            for i in range(n):
+                s = y[i]
+                for c in range(m):
+                    s -= Z[i, c] * w[c]
+                y[i] = s
+        else:
+            for i in range(n):
+                for j in range(n):
+                    A[i, j] = A0[i, j]
+            for e in range(ns):
+                de = sk * (kout[e] - kbar[e]) + scd * (cout[e] - cbar[e])
+                if de != 0.0:
+                    for p in range(an[e]):
+                        g = de * ax[e, p]
+                        for p2 in range(an[e]):
+                            A[ai[e, p], ai[e, p2]] += g * ax[e, p2]
+            for j in range(nc):
+                a = da[cidx[j]]
+                b = db[cidx[j]]
+                A[a, a] += scd * blocks[j, 0, 0]
+                A[a, b] += scd * blocks[j, 0, 1]
+                A[b, a] += scd * blocks[j, 1, 0]
+                A[b, b] += scd * blocks[j, 1, 1]
+            for i in range(nm):
+                A[md[i], md[i]] += dm[i]
+            for g in range(gg.shape[0]):
+                for i in range(n):
+                    for j in range(n):
+                        A[i, j] += scd * om[g] * gg[g, i, j] - sk * om[g] * om[g] * gk[g, i, j]
+            for i in range(n):
+                y[i] = res[i]
+            _lu_solve(A, y)
+        for i in range(n):
+            q[i] = qp[i] + beta * dt * dt * y[i]
+            v[i] = vp[i] + gamma * dt * y[i]
+            acc[i] = y[i]
+        if alpha != 0.0:
+            # HHT: r0 for the next step is the residual force at n+1 (without inertia)
+            _residual(q, v, f, kp, ki, kx, cp, ci, cx, ai, ax, an, kout, eout, cout, cidx, da,
+                      db, blocks, gg, gk, om, r0)
         bad = -1
         for j in range(n):
             if not math.isfinite(q[j]) or abs(q[j]) > qlim:
@@ -543,19 +794,24 @@ def _newmark_kernel(M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper,
         if bad >= 0:
             return local - 1, 1, bad
         if energy:
-            _energy_step(t, q, v, dt, C0, sa, sc, closs, kout, eout, dk, da, db, dha, dhb,
+            _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, closs, kout, eout, dk, da,
+                         db, dha, dhb,
                          dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr, en, ek, ee, ed, fbuf)
         if step % save_every == 0:
-            i = step // save_every
-            Q[i] = q
-            V[i] = v
-            KS[i] = kout
-            DS[i] = dout
-            TS[i] = t
-    qs[:] = q
-    vs[:] = v
-    accs[:] = acc
-    r0s[:] = r0
+            row = step // save_every
+            for i in range(n):
+                Q[row, i] = q[i]
+                V[row, i] = v[i]
+            for e in range(ns):
+                KS[row, e] = kout[e]
+                DS[row, e] = dout[e]
+            TS[row] = t
+    if nsteps > 0:
+        for i in range(n):
+            qs[i] = q[i]
+            vs[i] = v[i]
+            accs[i] = acc[i]
+            r0s[i] = r0[i]
     return nsteps, 0, -1
 
 
@@ -595,6 +851,82 @@ def _args(sys: LinearSystem) -> tuple:
         m.dof, m.ctrl, m.h, m.tx, m.ty, m.tlen,
         sys.gyro_g, sys.gyro_k, sys.gyro_rate,
     )
+
+
+def _sparse_rows(mat: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows of ``mat`` as padded (indices, values, counts) of their nonzero entries."""
+    nz = [np.flatnonzero(r) for r in mat]
+    width = max([len(i) for i in nz] + [1])
+    idx = np.zeros((mat.shape[0], width), np.int64)
+    val = np.zeros((mat.shape[0], width))
+    for e, i in enumerate(nz):
+        idx[e, : len(i)] = i
+        val[e, : len(i)] = mat[e, i]
+    return idx, val, np.array([len(i) for i in nz], np.int64)
+
+
+def _csr(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    ptr, idx, val = [0], [], []
+    for row in a:
+        nz = np.flatnonzero(row)
+        idx.extend(nz)
+        val.extend(row[nz])
+        ptr.append(len(idx))
+    return np.array(ptr, np.int64), np.array(idx, np.int64), np.array(val, float)
+
+
+#: Linear solve of a Newmark step: Woodbury update of the constant factored part, or dense LU.
+SOLVES = ("auto", "lowrank", "dense")
+
+
+def _step_args(sys: LinearSystem, dt: float, alpha: float, solve: str) -> tuple[tuple, str]:
+    """Kernel arguments of :func:`_newmark_kernel` (constant step matrix A₀ and its inverse,
+    the low-rank basis) and the linear solve used (``lowrank`` or ``dense``)."""
+    if solve not in SOLVES:
+        raise ValueError(f"solve {solve!r} must be one of {SOLVES}")
+    s, d, ms = sys.springs, sys.drives, sys.mass_schedule
+    n = sys.n
+    beta, gamma, fa = (1.0 + alpha) ** 2 / 4.0, 0.5 + alpha, 1.0 - alpha
+    k0 = np.array(sys.K, float)
+    c0 = np.array(sys.C, float)
+    for i in np.flatnonzero(d.kind == SPEED_CONTROL):
+        k0[d.a[i], d.a[i]] += d.p0[i] * d.ha[i] ** 2
+        c0[d.a[i], d.a[i]] += d.p1[i] * d.ha[i] ** 2
+    a = np.asarray(s.a, float)
+    kbar = np.array([s.ktab[e, : s.klen[e]].mean() for e in range(a.shape[0])])
+    cbar = np.array(s.c, float)
+    a0 = np.array(sys.M, float) + fa * (gamma * dt * c0 + beta * dt * dt * k0)
+    a0 += (a.T * fa * (beta * dt * dt * kbar + gamma * dt * cbar)) @ a
+    cidx = np.flatnonzero(d.kind == FLUID_COUPLING).astype(np.int64)
+    cols = [a.T]
+    for i in cidx:
+        cols.append(np.eye(n)[:, [d.a[i], d.b[i]]])
+    cols.append(np.eye(n)[:, ms.dof])
+    u = np.hstack(cols)
+    m = u.shape[1]
+    if solve == "auto":
+        solve = "lowrank" if (sys.gyro_g.shape[0] == 0 and m**3 + 6 * n * m < n**3) else "dense"
+    if solve == "lowrank" and sys.gyro_g.shape[0]:
+        raise ValueError("solve 'lowrank': gyroscopic terms change the whole step matrix; use "
+                         "'dense' or 'auto'")
+    if solve == "lowrank":
+        a0inv = np.linalg.inv(a0)
+        z = a0inv @ u
+        uz = u.T @ z
+    else:
+        a0inv, z, uz = np.zeros((0, 0)), np.zeros((n, 0)), np.zeros((0, 0))
+    ai, ax, an = _sparse_rows(a)
+    bi, bx, bn = _sparse_rows(np.asarray(s.b, float))
+    args = (np.ascontiguousarray(sys.M, float), s.c, s.contact_loss,
+            d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen,
+            np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float),
+            ms.dof, ms.ctrl, ms.h, ms.tx, ms.ty, ms.tlen,
+            sys.gyro_g, sys.gyro_k, sys.gyro_rate, *_csr(np.asarray(sys.C, float)),
+            *_csr(k0), *_csr(c0), ai, ax, an, bi, bx, bn,
+            s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper, cidx)
+    step = (np.ascontiguousarray(a0), np.ascontiguousarray(a0inv), np.ascontiguousarray(z),
+            np.ascontiguousarray(uz), kbar, cbar, solve == "lowrank")
+    return args + step, solve
 
 
 # ---------------------------------------------------------------------------------------------
@@ -646,6 +978,7 @@ def newmark(
     chunk_steps: int | None = None,
     control: RunControl | None = None,
     energy: bool = True,
+    solve: str = "auto",
 ) -> IntegrationResult:
     """Fixed-step Newmark (α = 0, average acceleration) or HHT-α (0 < α ≤ ⅓) integration.
 
@@ -657,6 +990,9 @@ def newmark(
     what was computed. ``energy``: book the work of the applied forces, dissipated and
     parametric work, stored energy at start and end (:func:`_energy_step`, in
     ``IntegrationResult.energy``; 0.3-0.7 µs per step, 5-12 %, on the reclaimer model).
+    ``solve``: the step's linear solve, ``lowrank`` (Woodbury update of the constant part
+    factored once, :func:`_newmark_kernel`), ``dense`` (LU of the whole step matrix every step)
+    or ``auto`` (lowrank when it needs fewer operations and there are no gyroscopic terms).
     """
     if not 0.0 <= alpha <= 1.0 / 3.0:
         raise ValueError(f"HHT alpha {alpha} must be in [0, 1/3]")
@@ -666,7 +1002,8 @@ def newmark(
     ctl = control or RunControl(progress=progress)
     if progress is not None and ctl.progress is None:
         ctl.progress = progress
-    args = _args(sys)
+    args, solve = _step_args(sys, dt, alpha, solve)
+    dt, t0, alpha, q_limit = float(dt), float(t0), float(alpha), float(q_limit)  # one signature
     nsteps = int(round((t_end - t0) / dt))
     save_every = max(1, int(save_every))
     n, ns = sys.n, sys.springs.a.shape[0]
@@ -680,12 +1017,13 @@ def newmark(
           "ee": np.zeros(ns), "ed": np.zeros(ns)}
     run_id = {"scheme": "newmark", "nsteps": nsteps, "dt": float(dt), "t0": float(t0),
               "save_every": save_every, "alpha": float(alpha), "n": n, "ns": ns,
-              "energy": int(energy)}
+              "energy": int(energy), "solve": solve}
     if ctl.resume is not None:
         done, stored0 = _resume_newmark(ctl.resume, run_id, st, out)
     else:
-        _newmark_start(*args, st["q"], st["v"], t0, st["acc"], st["r0"], out["KS"][0],
-                       out["DS"][0], st["en"], st["ek"], st["ee"], st["ed"])
+        _newmark_kernel(*args, st["q"], st["v"], st["acc"], st["r0"], t0, dt, 0, 0, save_every,
+                        alpha, q_limit, out["Q"], out["V"], out["KS"], out["DS"], out["TS"],
+                        st["en"], st["ek"], st["ee"], st["ed"], energy, True)
         out["Q"][0], out["V"][0], out["TS"][0] = st["q"], st["v"], t0
         done = 0
         stored0 = stored_energy(sys, st["q"], st["v"], st["ek"], st["ed"])
@@ -703,7 +1041,7 @@ def newmark(
         steps, code, bad = _newmark_kernel(
             *args, st["q"], st["v"], st["acc"], st["r0"], t0, dt, done, m, save_every, alpha,
             q_limit, out["Q"], out["V"], out["KS"], out["DS"], out["TS"], st["en"], st["ek"],
-            st["ee"], st["ed"], energy)
+            st["ee"], st["ed"], energy, False)
         w = time.perf_counter() - w
         if code != 0:
             done += steps
