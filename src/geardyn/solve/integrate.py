@@ -242,7 +242,7 @@ def _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f):
             tq = _interp(wa, dtx[i], dty[i], dtl[i])
             f[a] += tq * dha[i]
         elif k == 1:
-            # linearised about (v_a, v_b) by _assemble: here T* minus the C v* part
+            # linearised about (v_a, v_b) in C (_coupling_blocks): here T* minus the C v* part
             b = db[i]
             wb = v[b] * dhb[i] * dp1[i]
             tq = dp0[i] * wa * (wa - wb)
@@ -257,7 +257,7 @@ def _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f):
                 tq = dp0[i] * wa * wa * _interp(th, dtx[i], dty[i], dtl[i])
                 f[a] -= tq * dha[i]
         elif k == 3:
-            # linear in (q, v): the k θ and c ω parts go into K and C (see _assemble)
+            # linear in (q, v): the k θ and c ω parts go into K and C (see _step_args)
             n = dtl[i]
             th_ref = _interp(t, dtx[i], dty[i], n)
             h = 1e-6 * (dtx[i, n - 1] - dtx[i, 0] + 1.0)
@@ -289,68 +289,6 @@ def _force_table(t, ft, fv, f):
     w = s - i
     for j in range(n):
         f[j] = fv[i, j] * (1 - w) + fv[i + 1, j] * w
-
-
-@nb.njit(cache=True)
-def _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-              dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
-              md, mc, mh, mtx, mty, mtl, gg, gk, gr, M, C, K, f, kout, eout, dout):
-    """M, C, K at state (q, v, t) and the right-hand side f = F − Σ k e a (seed 004 eq 3.41)."""
-    n = q.shape[0]
-    M[:, :] = M0
-    C[:, :] = C0
-    K[:, :] = K0
-    for i in range(md.shape[0]):
-        M[md[i], md[i]] = _interp(q[mc[i]] * mh[i], mtx[i], mty[i], mtl[i])
-    _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kout, eout, dout)
-    _force_table(t, ft, fv, f)
-    _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
-    for i in range(dk.shape[0]):
-        if dk[i] == 3:
-            a = da[i]
-            K[a, a] += dp0[i] * dha[i] * dha[i]
-            C[a, a] += dp1[i] * dha[i] * dha[i]
-        elif dk[i] == 1:
-            # fluid coupling T = q ω_a (ω_a − ω_b'), ω_b' = p1 h_b v_b, linearised (implicit)
-            a = da[i]
-            b = db[i]
-            wa = v[a] * dha[i]
-            wb = v[b] * dhb[i] * dp1[i]
-            ga = dp0[i] * (2.0 * wa - wb)
-            gb = -dp0[i] * wa
-            hb = dp1[i] * dhb[i]
-            C[a, a] += ga * dha[i] * dha[i]
-            C[a, b] += gb * hb * dha[i]
-            C[b, a] -= hb * ga * dha[i]
-            C[b, b] -= hb * gb * hb
-    # gyroscopic and centripetal terms of each stage at its carrier speed Ω = r·v
-    # (seed 003 eq 3.1: Ω G q̇ − Ω² K_Ω q, carrier-fixed frame)
-    for g in range(gg.shape[0]):
-        om = 0.0
-        for j in range(n):
-            om += gr[g, j] * v[j]
-        for i in range(n):
-            for j in range(n):
-                C[i, j] += om * gg[g, i, j]
-                K[i, j] -= om * om * gk[g, i, j]
-    for e in range(sa.shape[0]):
-        k = kout[e]
-        ce = sc[e]
-        if closs[e] == 1 and dout[e] < 0.0:
-            k = 0.0
-            ce = 0.0
-        if k == 0.0 and ce == 0.0:
-            continue
-        for i in range(n):
-            ai = sa[e, i]
-            if ai == 0.0:
-                continue
-            f[i] -= k * eout[e] * ai
-            for j in range(n):
-                aj = sa[e, j]
-                if aj != 0.0:
-                    K[i, j] += k * ai * aj
-                    C[i, j] += ce * ai * aj
 
 
 @nb.njit(cache=True)
@@ -816,41 +754,48 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
 
 
 @nb.njit(cache=True)
-def _rhs_kernel(t, y, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-                dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
-                gg, gk, gr):
+def _rhs_kernel(t, y, M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+                md, mc, mh, mtx, mty, mtl, gg, gk, gr, c0p, c0i, c0x, kp, ki, kx, cp, ci, cx,
+                ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, cidx):
+    """y' = [v, M(q)⁻¹ (F − C v − K q)] at (t, y = [q, v]) (seed 004 eq 3.41), with the
+    helpers of the step kernel (fluid couplings linearised about v: same value)."""
     n = M0.shape[0]
-    ns = sa.shape[0]
-    q = y[:n].copy()
-    v = y[n:].copy()
-    M = np.empty((n, n))
-    C = np.empty((n, n))
-    K = np.empty((n, n))
-    f = np.empty(n)
+    ns = sx0.shape[0]
+    q = np.empty(n)
+    v = np.empty(n)
+    for i in range(n):
+        q[i] = y[i]
+        v[i] = y[n + i]
     kout = np.empty(ns)
     eout = np.empty(ns)
     dout = np.empty(ns)
-    _assemble(q, v, t, M0, C0, K0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-              dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, md, mc, mh, mtx, mty, mtl,
-              gg, gk, gr,
-              M, C, K, f, kout, eout, dout)
+    cout = np.empty(ns)
+    f = np.empty(n)
+    blocks = np.zeros((cidx.shape[0], 2, 2))
+    om = np.zeros(gg.shape[0])
+    dm = np.zeros(md.shape[0])
+    _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
+               kout, eout, dout, cout)
+    _force_table(t, ft, fv, f)
+    _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
+    _coupling_blocks(v, cidx, da, db, dha, dhb, dp0, dp1, blocks)
+    _gyro_rates(v, gr, om)
     out = np.empty(2 * n)
-    out[:n] = v
-    out[n:] = np.linalg.solve(M, f - C @ v - K @ q)
+    acc = np.empty(n)
+    _residual(q, v, f, kp, ki, kx, cp, ci, cx, ai, ax, an, kout, eout, cout, cidx, da, db,
+              blocks, gg, gk, om, acc)
+    _mass_diag(q, M0, md, mc, mh, mtx, mty, mtl, dm)
+    m = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            m[i, j] = M0[i, j]
+    for i in range(md.shape[0]):
+        m[md[i], md[i]] += dm[i]
+    _lu_solve(m, acc)
+    for i in range(n):
+        out[i] = v[i]
+        out[n + i] = acc[i]
     return out
-
-
-def _args(sys: LinearSystem) -> tuple:
-    s, d, m = sys.springs, sys.drives, sys.mass_schedule
-    return (
-        np.ascontiguousarray(sys.M, float), np.ascontiguousarray(sys.C, float),
-        np.ascontiguousarray(sys.K, float),
-        s.a, s.b, s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper, s.c, s.contact_loss,
-        d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen,
-        np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float),
-        m.dof, m.ctrl, m.h, m.tx, m.ty, m.tlen,
-        sys.gyro_g, sys.gyro_k, sys.gyro_rate,
-    )
 
 
 def _sparse_rows(mat: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -1099,7 +1044,7 @@ def _resume_newmark(saved: dict, run_id: dict, st: dict, out: dict) -> tuple[int
 
 def compiled_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray]:
     """First-order right-hand side y' = f(t, y) (y = [q, v]) using the compiled kernels."""
-    args = _args(sys)
+    args = _step_args(sys, 1.0, 0.0, "dense")[0][:-7]
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         return _rhs_kernel(t, y, *args)
