@@ -100,9 +100,10 @@ def test_transmission_sigkill_sigint_resume(tmp_path: Path) -> None:
     text = text.replace("record_rate_hz = 50000.0", "record_rate_hz = 5000.0")
     cfg_path = tmp_path / "fe.toml"
     cfg_path.write_text(text)
-    reference = run_simulation(load_config(cfg_path), revolutions=5.0)
+    # 20 revolutions (~2 s of loop): the resumed run must still be running when SIGINT comes
+    reference = run_simulation(load_config(cfg_path), revolutions=20.0)
     out = tmp_path / "fe.nc"
-    _chain(tmp_path, ["transmission", str(cfg_path), "--revolutions", "5", "--modes", "3",
+    _chain(tmp_path, ["transmission", str(cfg_path), "--revolutions", "20", "--modes", "3",
                       "--netcdf", str(out)], out, reference)
 
 
