@@ -66,8 +66,8 @@ def small_system(gyro: bool = False):  # noqa: ANN201
                         sched, [f"q{i}" for i in range(n)])
     if gyro:
         g = np.zeros((1, n, n))
-        g[0, 1, 2], g[0, 2, 1] = 1.0, -1.0
-        sys_.gyro_g, sys_.gyro_k = g, 0.1 * np.abs(g)
+        g[0, 1, 2], g[0, 2, 1] = 50.0, -50.0
+        sys_.gyro_g, sys_.gyro_k = g, np.abs(g)
         sys_.gyro_rate = np.array([[1.0, 0.0, 0.0, 0.0]])
     return sys_
 
