@@ -824,6 +824,22 @@ def _csr(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 SOLVES = ("auto", "lowrank", "dense")
 
 
+def _dense_ops(a0: np.ndarray) -> float:
+    """Multiply-adds of a step's in-place LU (:func:`_lu_solve`, rows with a zero multiplier
+    skipped) for the sparsity of ``a0`` and its fill-in, plus copy and substitution."""
+    import scipy.linalg as sla
+
+    n = a0.shape[0]
+    lu, _ = sla.lu_factor(a0, check_finite=False)
+    below = np.count_nonzero(np.tril(lu, -1), axis=0)
+    return float(below @ (n - np.arange(n)) + 2 * n * n)
+
+
+def _lowrank_ops(n: int, m: int) -> float:
+    """Multiply-adds of a Woodbury step solve: A₀⁻¹b, UᵀZ-based m × m system and its LU, Zc."""
+    return float(2 * n * n + 2 * n * m + m**3 / 3 + 2 * m * m)
+
+
 def _step_args(sys: LinearSystem, dt: float, alpha: float, solve: str) -> tuple[tuple, str]:
     """Kernel arguments of :func:`_newmark_kernel` (constant step matrix A₀ and its inverse,
     the low-rank basis) and the linear solve used (``lowrank`` or ``dense``)."""
@@ -850,7 +866,8 @@ def _step_args(sys: LinearSystem, dt: float, alpha: float, solve: str) -> tuple[
     u = np.hstack(cols)
     m = u.shape[1]
     if solve == "auto":
-        solve = "lowrank" if (sys.gyro_g.shape[0] == 0 and m**3 + 6 * n * m < n**3) else "dense"
+        solve = "lowrank" if (sys.gyro_g.shape[0] == 0
+                              and _lowrank_ops(n, m) < _dense_ops(a0)) else "dense"
     if solve == "lowrank" and sys.gyro_g.shape[0]:
         raise ValueError("solve 'lowrank': gyroscopic terms change the whole step matrix; use "
                          "'dense' or 'auto'")
@@ -937,7 +954,8 @@ def newmark(
     ``IntegrationResult.energy``; 0.3-0.7 µs per step, 5-12 %, on the reclaimer model).
     ``solve``: the step's linear solve, ``lowrank`` (Woodbury update of the constant part
     factored once, :func:`_newmark_kernel`), ``dense`` (LU of the whole step matrix every step)
-    or ``auto`` (lowrank when it needs fewer operations and there are no gyroscopic terms).
+    or ``auto`` (lowrank when it needs fewer operations, counted from the sparsity of the
+    step matrix's LU, and there are no gyroscopic terms).
     """
     if not 0.0 <= alpha <= 1.0 / 3.0:
         raise ValueError(f"HHT alpha {alpha} must be in [0, 1/3]")
