@@ -38,6 +38,7 @@ from geardyn.solve.integrate import (
     SPEED_CONTROL,
     IntegrationResult,
     LinearSystem,
+    _coupling_blocks,
     _drive_forces,
     _force_table,
     _mesh_state,
@@ -177,18 +178,7 @@ def _state(q, v, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar
         if k != 0.0 and eout[e] != 0.0:
             for i in range(n):
                 f[i] -= k * eout[e] * sa[e, i]
-    for j in range(ca.shape[0]):
-        i = cidx[j]
-        a, b = da[i], db[i]
-        wa = v[a] * dha[i]
-        wb = v[b] * dhb[i] * dp1[i]
-        ga = dp0[i] * (2.0 * wa - wb)
-        gb = -dp0[i] * wa
-        hb = dp1[i] * dhb[i]
-        blocks[j, 0, 0] = ga * dha[i] * dha[i]
-        blocks[j, 0, 1] = gb * hb * dha[i]
-        blocks[j, 1, 0] = -hb * ga * dha[i]
-        blocks[j, 1, 1] = -hb * gb * hb
+    _coupling_blocks(v, cidx, da, db, dha, dhb, dp0, dp1, blocks)
 
 
 @nb.njit(cache=True)
