@@ -1,7 +1,8 @@
 """Off-line-of-action (extended) contact, seed 002 §2.5.1, for spur and helical slices: the
 separation distance D against a brute-force geometric computation (minimum distance from the
 rotated tip corner to the mating involute flank, scipy), and its effect on the loaded helical
-transmission error. The seed 002 unloaded-slice correction (§2.2) is not reproducible."""
+transmission error. The seed 002 unloaded-slice correction (§2.2): independent-slice guard here,
+the slice coupling in test_slice_coupling.py."""
 
 from __future__ import annotations
 
@@ -94,21 +95,23 @@ def test_helical_slices_extended_contact_under_load() -> None:
     assert res[800.0] > res[100.0] > 0
 
 
-def test_unloaded_slice_correction_not_reproducible_regression_guard() -> None:
+def test_independent_slices_half_face_spall_regression_guard() -> None:
     """Seed 002 §2.2 corrects slice stiffness when adjacent slices are unloaded, "defined by a
-    comparison with a dedicated Finite Element model" — neither the FE model nor the corrective
-    values are published, so it is not reproduced: slices are independent. Pinned instead: a
-    spall removing half the face (middle, single-contact zone) removes exactly that pair's
-    half-face stiffness (no coupling to the unloaded neighbours; the seed's correction would
-    make the loss smaller)."""
+    comparison with a dedicated Finite Element model" (unpublished). geardyn reproduces the
+    physics with slice coupling (two-parameter foundation, tests/gears/test_slice_coupling.py,
+    where a half-face spall keeps more than half the pair stiffness). With the coupling off
+    (the default), slices are independent: a spall removing half the face (middle,
+    single-contact zone) removes exactly that pair's half-face stiffness."""
     from geardyn.gears.faults import Spall
 
     g = seed002_low()
-    t0 = mesh_stiffness(g, n_per_cycle=64, n_cycles=None, n_slices=24)
+    assert not g.slice_coupling
+    t0 = mesh_stiffness(g, n_per_cycle=64, n_cycles=None, n_slices=24, slice_coupling=False)
     rb = g.base_radius[1] / math.cos(g.transverse_pressure_angle)
     sp = Spall(gear="b", tooth=0, radius=rb, radial_width=0.0029, depth=1e-4,
                axial_position=g.face_width / 2, axial_length=g.face_width / 2)
-    t1 = mesh_stiffness(g, n_per_cycle=64, n_cycles=None, n_slices=24, faults=(sp,))
+    t1 = mesh_stiffness(g, n_per_cycle=64, n_cycles=None, n_slices=24, faults=(sp,),
+                        slice_coupling=False)
     hit = t1.pair_stiffness < t0.pair_stiffness - 1.0
     assert hit.any()
     ratio = t1.pair_stiffness[hit] / t0.pair_stiffness[hit]

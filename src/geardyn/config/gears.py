@@ -126,6 +126,14 @@ class GearGeometryConfig(_Model):
     torque_nm: float | None = Field(
         None, gt=0, description="torque on the pinion (N·m) for loaded-contact analysis"
     )
+    slice_coupling: bool = Field(
+        False, description="couple the face slices of each tooth in the mesh stiffness tables "
+        "(seed 002 §2.2 unloaded-slice correction: two-parameter foundation, a partly loaded "
+        "face is stiffer than its loaded slices alone); false = independent slices")
+    slice_coupling_length_ratio: float | None = Field(
+        None, gt=0, le=5, description="decay length of the slice coupling over the load height "
+        "λ/h (dimensionless; default √(0.8 − ν) from the cantilever-plate derivation); needs "
+        "slice_coupling = true")
 
 
 @dataclass(frozen=True)
@@ -201,6 +209,16 @@ def _build(cfg_entry: GearGeometryConfig, mesh, label: str) -> PairModel:  # noq
             else None
         ),
     )
+
+    if cfg_entry.slice_coupling_length_ratio is not None and not cfg_entry.slice_coupling:
+        raise ConfigError(
+            f"gear pair '{label}': slice_coupling_length_ratio is set but slice_coupling is "
+            "false (set slice_coupling = true or remove the ratio)"
+        )
+    if cfg_entry.slice_coupling:
+        from geardyn.gears.slice_coupling import with_slice_coupling
+
+        geom = with_slice_coupling(geom, True, cfg_entry.slice_coupling_length_ratio)
 
     def side(s: str) -> Literal["a", "b"]:
         if not swapped:

@@ -42,6 +42,7 @@ from geardyn.gears.contact import hertz_compliance
 from geardyn.gears.faults import Crack, Spall
 from geardyn.gears.fillet_foundation import fillet_foundation_compliance
 from geardyn.gears.geometry import MeshGeometry, inv
+from geardyn.gears.slice_coupling import CouplingGrids
 from geardyn.gears.trochoid import trochoid_fillet
 
 if TYPE_CHECKING:
@@ -308,12 +309,16 @@ def mesh_stiffness(
     n_slices: int | None = None,
     faults: tuple[Crack | Spall, ...] | list[Crack | Spall] = (),
     grid_points: int = 401,
+    slice_coupling: bool | None = None,
 ) -> StiffnessTable:
     """Time-varying mesh stiffness over ``n_cycles`` mesh cycles (None = full hunting period).
 
     Vectorised: pair compliance curves are built once on a grid of LOA positions (Gauss
     quadrature of the PE integrals) and interpolated for every slice of every pair in contact.
     ``n_slices`` defaults to 1 for a healthy spur pair, 24 otherwise (helical or faults).
+    ``slice_coupling`` (None: ``g.slice_coupling``) couples the slices of each tooth along the
+    face (seed 002 §2.2 unloaded-slice correction, :mod:`.slice_coupling`, decay length ratio
+    ``g.slice_coupling_ratio``); off, the slices are independent.
     """
     if n_per_cycle < 4:
         raise InputError(f"n_per_cycle must be ≥ 4 (got {n_per_cycle})")
@@ -345,6 +350,8 @@ def mesh_stiffness(
     n_pairs = int(math.ceil((g.path_length + lag[-1]) / pbt)) + 1
     ugrid = _grid(g, grid_points)
     kgrid = 1.0 / pair_compliance_curve(g, ugrid)  # per unit width
+    coupled = g.slice_coupling if slice_coupling is None else bool(slice_coupling)
+    cgrid = CouplingGrids.build(g, ugrid, g.slice_coupling_ratio) if coupled else None
     age = np.arange(n_pairs)
 
     half = 0.5 * dz * math.tan(abs(g.base_helix_angle))  # contact-line spread within a slice
@@ -368,7 +375,13 @@ def mesh_stiffness(
 
     u1, w1 = positions(xi1[:, None], age[None, :])  # (n, P, K)
     in1 = w1 > 0
-    pair1 = (np.interp(u1, ugrid, kgrid) * dz * w1).sum(axis=2)
+    if cgrid is None:
+        pair1 = (np.interp(u1, ugrid, kgrid) * dz * w1).sum(axis=2)
+    else:
+        shape = u1.shape
+        pair1 = cgrid.pair_stiffness(
+            u1.reshape(-1, n_slices), w1.reshape(-1, n_slices), dz
+        ).reshape(shape[:2])
     mid = n_slices // 2
     cu1 = np.where(in1[:, :, mid], u1[:, :, mid], np.nan)
     reps = -(-n_total // n)
@@ -386,6 +399,8 @@ def mesh_stiffness(
             u, wt = positions(xi[rows], age[cols])  # (H, K)
             inside = wt > 0
             ks_ = np.interp(u, ugrid, kgrid) * dz * wt
+            loaded = inside.copy()  # coupled model: slices in contact
+            ctooth = [cgrid.tooth(i, u)[0] for i in (0, 1)] if cgrid is not None else []
             for f, hit in zip(faults, hits, strict=True):
                 h = hit[rows, cols][:, None] & inside
                 if not h.any():
@@ -395,15 +410,29 @@ def mesh_stiffness(
                     for qv in np.unique(q):
                         if qv <= 0:
                             continue
-                        kc = 1.0 / pair_compliance_curve(g, ugrid, f, float(qv))
                         sel = h & (q == qv)[None, :]
+                        if cgrid is not None:  # the cracked tooth alone
+                            side = 0 if f.gear == "a" else 1
+                            hit_t = hit[rows, cols][:, None] & (q == qv)[None, :]
+                            rc = g.contact_radii(ugrid)[side]
+                            ct = tooth_compliance(g, side, rc, float(qv), f).total
+                            uc = np.clip(u[hit_t], ugrid[0], ugrid[-1])
+                            ctooth[side][hit_t] = np.interp(uc, ugrid, ct)
+                            continue
+                        kc = 1.0 / pair_compliance_curve(g, ugrid, f, float(qv))
                         ks_[sel] = np.interp(u[sel], ugrid, kc) * dz * wt[sel]
                 elif isinstance(f, Spall):
                     ra, rbb = g.contact_radii(u)
                     rr = ra if f.gear == "a" else rbb
                     ks_[f.covers(rr, zk[None, :], b) & h] = 0.0
+                    loaded[f.covers(rr, zk[None, :], b) & h] = False
             pair_k = pair_k.copy()
-            pair_k[rows, cols] = ks_.sum(axis=1)
+            if cgrid is None:
+                pair_k[rows, cols] = ks_.sum(axis=1)
+            else:
+                pair_k[rows, cols] = cgrid.pair_stiffness(
+                    u, wt, dz, loaded, (ctooth[0], ctooth[1])
+                )
     return StiffnessTable(
         geometry=g,
         mesh_cycle=xi,
