@@ -163,6 +163,10 @@ class ExternalLoadConfig(_Strict):
 
 class TransmissionConfig(_Strict):
     modal_damping: float = Field(0.01, ge=0, lt=1)
+    mass: Literal["consistent", "lumped"] = Field(
+        "consistent", description="shaft-element mass matrix: consistent, or lumped (HRZ "
+        "diagonal: diagonal M⁻¹ and a √3 longer stable explicit step)"
+    )
     shafts: list[ShaftConfig] = Field(min_length=1)
     wheels: list[WheelConfig] = Field(default_factory=list)
     bearings: list[BearingConfig] = Field(default_factory=list)

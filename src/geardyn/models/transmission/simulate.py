@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import math
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import xarray as xr
 
+from geardyn.elements.beam import ShaftSection, timoshenko_element
 from geardyn.errors import GeardynError, InputError
 from geardyn.models.transmission.assembly import (
     TransmissionModel,
@@ -19,12 +20,8 @@ from geardyn.models.transmission.assembly import (
     modal_damping_matrix,
     static_equilibrium,
 )
-from geardyn.models.transmission.integrate import (
-    gyroscopic_args,
-    run_loop,
-    stable_time_step,
-)
 from geardyn.results import finish, shaft_variables
+from geardyn.solve import explicit  # module, not names: geardyn.solve.explicit imports .kernels
 from geardyn.solve.control import RunControl
 from geardyn.solve.sanity import check_energy, check_time_step
 
@@ -48,6 +45,29 @@ class Prepared:
     frequencies_hz: np.ndarray
     dt_stable: float
     speed_ratio: dict[str, float] = field(default_factory=dict)
+
+
+def with_mass(model: TransmissionModel, t) -> TransmissionModel:  # noqa: ANN001
+    """``model`` with the shaft-element mass of ``t.mass`` (TransmissionConfig): for "lumped",
+    the consistent element masses are replaced by the HRZ diagonal ones
+    (:func:`geardyn.elements.beam.timoshenko_element`); wheels are diagonal already, so M
+    becomes diagonal. A model whose M is diagonal already is returned as is."""
+    if getattr(t, "mass", "consistent") == "consistent":
+        return model
+    M = model.M
+    if np.count_nonzero(M - np.diag(np.diag(M))) == 0:
+        return model
+    d = np.diag(M).copy()
+    for s in t.shafts:
+        sec = ShaftSection(s.outer_diameter_m, s.inner_diameter_m, s.youngs_modulus_pa,
+                           s.poisson_ratio, s.density_kg_m3)
+        _, mc = timoshenko_element(s.length_m / s.elements, sec)
+        _, ml = timoshenko_element(s.length_m / s.elements, sec, "lumped")
+        ids = model.shaft_nodes[s.name]
+        for e in range(s.elements):
+            a = 6 * ids[e]
+            d[a : a + 12] += np.diag(ml) - np.diag(mc)
+    return replace(model, M=np.diag(d))
 
 
 def connecting_jacobian(model: TransmissionModel, q: np.ndarray, h: float = 1e-9) -> np.ndarray:
@@ -85,7 +105,7 @@ def prepare(model: TransmissionModel, reference_shaft: str | None = None) -> Pre
     K_lin = model.K + connecting_jacobian(model, q0)
     f, _ = modal_analysis(model.M, K_lin)
     C = modal_damping_matrix(model.M, K_lin, model.modal_damping)
-    dt = stable_time_step(model.M, K_lin)
+    dt = explicit.stable_time_step(model.M, K_lin)
     ref = reference_shaft or next(iter(model.shaft_nodes))
     return Prepared(model, q0, K_lin, C, f, dt, speed_ratios(model, ref))
 
@@ -112,6 +132,10 @@ def simulate(
     t = cfg.transmission
     sl = t.speed_law
     model = model or (prepared.model if prepared else build_model(cfg))
+    built = model
+    model = with_mass(model, t)
+    if model is not built:  # a consistent-mass model for a lumped config: prepare it again
+        prepared = None
     if sl is None:
         # plain torque laws: constant drive and load torques from an initial drive speed
         if t.simulation.duration_s is None or t.simulation.initial_rpm is None:
@@ -168,7 +192,7 @@ def simulate(
     ref_node = model.node_of(ref_shaft, ref_local)
     Minv = np.linalg.inv(model.M)
     t1 = _time.perf_counter()
-    rec, energy, n_done, status, q, vend, _ = run_loop(
+    rec, energy, n_done, status, q, vend, _ = explicit.run_loop(
         prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, prep.C,
         model.bearings.args(), model.meshes.args(),
         6 * model.drive_node + 5, 6 * model.load_node + 5, 6 * ref_node + 5,
@@ -176,7 +200,7 @@ def simulate(
         model.node_sign(ref_node), model.load_torque,
         np.array([0.0, duration, duration * 10 + 1.0]), np.array([w0, w1, w1]),
         kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs, control=control,
-        gargs=gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
+        gargs=explicit.gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
                                                  for s, ids in model.shaft_nodes.items()})
         if t.simulation.gyroscopic else None,
         xargs=load_args(model, t) if (t.unbalance or t.external_loads) else None,

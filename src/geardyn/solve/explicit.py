@@ -1,0 +1,404 @@
+"""Explicit time integration of the FE transmission (seed 002 eq 3) with a speed-tracking drive.
+
+The implicit Newmark/HHT-α integrators of the lumped-parameter models are in
+:mod:`geardyn.solve.integrate`; this module is the explicit one (issue 12: one ``solve``
+package; :mod:`geardyn.models.transmission.integrate` re-exports it).
+
+Explicit velocity-Verlet (central-difference) scheme compiled with numba: the contact forces
+are strongly nonlinear but cheap, the model is small (≈100 DOF), so an explicit step below
+the stability limit 2/ω_max is the fastest robust choice (no Jacobians of the contact laws).
+Velocity-dependent forces (damping, friction, squeeze film, controller) use a predicted
+end-of-step velocity. The loop runs in compiled code, in chunks that return to Python
+(progress, Ctrl-C, checkpoints: :class:`geardyn.solve.control.RunControl`); the whole loop
+state is carried between chunks, so the result does not depend on the chunking. Outputs are
+decimated.
+
+Drive: T_d = T_0 + K_p e + K_i ∫e, e = ω_ref(t) − ω_ref_node, on the drive node; the load
+torque is constant and resists the rotation (seed 002 §3.2: operating point reached by the
+torque laws). Energy bookkeeping integrates input, output, the work of the applied loads and
+each dissipation channel.
+
+Gyroscopic terms (optional): M q̈ + (C + Σ_s Ω_s(t) G_s) q̇ + K q = F, G_s the gyroscopic
+matrix of shaft s per rad/s (Timoshenko elements + wheels, :mod:`geardyn.elements`), Ω_s(t)
+the current mean spin θ̇z of the shaft's nodes (Lalanne & Ferraris, *Rotordynamics
+Prediction in Engineering*, 1998, ch. 1-2, assembled). G_s is skew-symmetric: the terms do
+no work.
+
+Applied loads (optional): unbalances m e at a node, F = m e (θ̇² cos θ + θ̈ sin θ,
+θ̇² sin θ − θ̈ cos θ) with θ = θz + φ the node's rotation (the force of the rotating point
+mass on the rotor, its own inertia neglected; Lalanne & Ferraris 1998 ch. 1), and external
+forces/torques F = F₀ + A cos(2π f t + n θz,ref + φ) on any DOF (time law f, angle law n).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from numba import njit
+
+from geardyn.errors import InputError
+from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+from geardyn.solve.control import RunControl, check_record_size
+
+# channels of the energy accumulator
+E_IN, E_OUT, E_VISC, E_ROLL, E_FRIC, E_SQZ, E_MODAL, E_EXT = range(8)
+
+
+def no_gyroscopic() -> tuple:
+    """Gyroscopic arguments of the loops without gyroscopic terms."""
+    return (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0), np.zeros(0, np.int64),
+            np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros(0))
+
+
+def gyroscopic_args(G: dict[str, np.ndarray], spin_dofs: dict[str, list[int]]) -> tuple:
+    """Sparse (COO) gyroscopic matrices of the shafts for :func:`gyroscopic_forces`:
+    (rows, cols, values per rad/s, shaft index per entry, CSR offsets of each shaft's θz DOFs,
+    the θz DOFs, work array of the shaft speeds)."""
+    rows, cols, vals, sh, ptr, dofs = [], [], [], [], [0], []
+    for i, (name, g) in enumerate(G.items()):
+        r, c = np.nonzero(g)
+        rows.append(r)
+        cols.append(c)
+        vals.append(g[r, c])
+        sh.append(np.full(r.size, i, np.int64))
+        dofs.extend(spin_dofs[name])
+        ptr.append(len(dofs))
+    if not rows:
+        return no_gyroscopic()
+    return (np.concatenate(rows).astype(np.int64), np.concatenate(cols).astype(np.int64),
+            np.concatenate(vals).astype(float), np.concatenate(sh), np.array(ptr, np.int64),
+            np.array(dofs, np.int64), np.zeros(len(G)))
+
+
+def no_loads() -> tuple:
+    """Applied-load arguments of the loops without unbalances or external loads."""
+    z, zi = np.zeros(0), np.zeros(0, np.int64)
+    return (zi, z, z, zi, z, z, z, z, zi, z)
+
+
+@njit(cache=True)
+def gyroscopic_forces(v, f, g_row, g_col, g_val, g_sh, sh_ptr, sh_dofs, om
+                      ):  # pragma: no cover - compiled
+    """f −= Σ_s Ω_s G_s v with Ω_s the mean θ̇z of shaft s's nodes (``om`` receives Ω_s)."""
+    for s in range(sh_ptr.size - 1):
+        w = 0.0
+        for j in range(sh_ptr[s], sh_ptr[s + 1]):
+            w += v[sh_dofs[j]]
+        om[s] = w / (sh_ptr[s + 1] - sh_ptr[s])
+    for e in range(g_row.size):
+        f[g_row[e]] -= om[g_sh[e]] * g_val[e] * v[g_col[e]]
+
+
+@njit(cache=True)
+def applied_loads(q, v, a, t, fx, u_dof, u_me, u_ph, x_dof, x_f0, x_amp, x_freq, x_ord,
+                  x_angdof, x_ph):  # pragma: no cover - compiled
+    """Unbalance forces (``u_dof``: x DOF of the node; θz is ``u_dof`` + 5) and external loads
+    at time ``t`` into ``fx`` (overwritten)."""
+    fx[:] = 0.0
+    for i in range(u_dof.size):
+        d = u_dof[i]
+        th = q[d + 5] + u_ph[i]
+        w = v[d + 5]
+        al = a[d + 5]
+        c = math.cos(th)
+        s = math.sin(th)
+        fx[d] += u_me[i] * (w * w * c + al * s)
+        fx[d + 1] += u_me[i] * (w * w * s - al * c)
+    for i in range(x_dof.size):
+        ph = 2.0 * math.pi * x_freq[i] * t + x_ph[i]
+        if x_ord[i] != 0.0:
+            ph += x_ord[i] * q[x_angdof[i]]
+        fx[x_dof[i]] += x_f0[i] + x_amp[i] * math.cos(ph)
+
+
+def csr(A: np.ndarray) -> tuple:
+    """(data, column indices, row pointers) of the non-zeros of dense ``A`` (row-major): K and
+    M⁻¹ of the transmission are block-diagonal per shaft (shafts couple only through bearings
+    and meshes), so the loop's products cost O(nnz) instead of O(n²)."""
+    A = np.asarray(A, dtype=float)
+    rows, cols = np.nonzero(A)
+    ptr = np.zeros(A.shape[0] + 1, np.int64)
+    np.add.at(ptr, rows + 1, 1)
+    return (A[rows, cols].copy(), cols.astype(np.int64), np.cumsum(ptr).astype(np.int64))
+
+
+@njit(cache=True)
+def _csr_matvec(data, idx, ptr, x, out, sign):  # pragma: no cover - compiled
+    """out += sign · A x (A in CSR)."""
+    for i in range(ptr.size - 1):
+        acc = 0.0
+        for j in range(ptr[i], ptr[i + 1]):
+            acc += data[j] * x[idx[j]]
+        out[i] += sign * acc
+
+
+@njit(cache=True)
+def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, a, hdt
+           ):  # pragma: no cover
+    """``a`` = M⁻¹ (F_ext + F_connecting − K q − C v − Σ Ω G v_g); ``Minv`` and ``K`` in CSR;
+    on entry ``a`` holds the previous acceleration.
+
+    Gyroscopic terms: v_g is the end-of-step velocity v + hdt (a_new − a_old) (``v`` the
+    predicted one, ``hdt`` = dt/2), solved by fixed-point iteration (contraction ≈ Ω dt ≪ 1),
+    i.e. the skew term treated implicitly. With the predicted velocity alone the explicit step
+    is unstable for the undamped high modes near the stability limit (growth ≈ Ω dt (ω dt)²/4
+    per step); the implicit treatment keeps the scheme's amplification at 1."""
+    f[:] = fext
+    if fx.size > 0:
+        f += fx
+    bearing_forces(q, v, f, diss, *bargs, bl)
+    mesh_forces(q, v, f, diss, *margs, mf)
+    _csr_matvec(K[0], K[1], K[2], q, f, -1.0)
+    cv = C @ v
+    f -= cv
+    diss[4] += v @ cv
+    if gargs[0].size == 0:
+        a[:] = 0.0
+        _csr_matvec(Minv[0], Minv[1], Minv[2], f, a, 1.0)
+        return
+    n = f.size
+    a_old = a.copy()
+    vg = v.copy()
+    fg = np.empty(n)
+    for _ in range(20):
+        fg[:] = f
+        gyroscopic_forces(vg, fg, *gargs)
+        a[:] = 0.0
+        _csr_matvec(Minv[0], Minv[1], Minv[2], fg, a, 1.0)
+        dmax = 0.0
+        vmax = 0.0
+        for j in range(n):
+            vn = v[j] + hdt * (a[j] - a_old[j])
+            dmax = max(dmax, abs(vn - vg[j]))
+            vmax = max(vmax, abs(vn))
+            vg[j] = vn
+        if dmax <= 1e-13 * vmax:
+            break
+
+
+@njit(cache=True)
+def start_loop(
+    q, v, Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign, load_sign,
+    ref_sign, load_torque, t_ref, w_ref, kp, ki, t0_drive, integ0,
+    a, fext, diss, bl, mf, sc, gargs, xargs, fx,
+):  # pragma: no cover - compiled
+    """Initial state of the loop at t = 0: drive torque, acceleration ``a``, dissipation
+    powers ``diss``, bearing loads ``bl``, mesh forces ``mf``, applied loads ``fx`` (empty
+    without loads; θ̈ taken 0 at the start); ``sc`` = [t, ∫e, T_d]."""
+    n = q.size
+    f = np.zeros(n)
+    t = 0.0
+    wr = np.interp(t, t_ref, w_ref)
+    err = wr - ref_sign_speed(v, ref_dof, ref_sign)
+    td = t0_drive + kp * err + ki * integ0
+    fext[:] = 0.0
+    fext[drive_dof] = drive_sign * td
+    fext[load_dof] = -load_sign * load_torque
+    diss[:] = 0.0
+    if fx.size > 0:
+        applied_loads(q, v, a, t, fx, *xargs)
+    _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, a, 0.0)
+    sc[0] = t
+    sc[1] = integ0
+    sc[2] = td
+
+
+@njit(cache=True)
+def run_chunk(
+    q, v, a, fext, diss, bl, mf, energy, sc, step0, step1, dt, rec_every, rec,
+    Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign, ref_sign,
+    t_ref, w_ref, kp, ki, t0_drive, max_disp, rec_dofs, gargs, xargs, fx,
+):  # pragma: no cover - compiled
+    """Advance global steps ``step0`` → ``step1`` (velocity Verlet); the loop state (q, v, a,
+    fext, diss, bl, mf, energy, sc = [t, ∫e, T_d], fx) is updated in place so that chunks
+    continue exactly. Global step s is recorded (before advancing it) in row s // rec_every of
+    ``rec`` when s is a multiple of ``rec_every``. Returns (last step reached, status): status 0 ok,
+    1 diverged while advancing from that step.
+
+    Record columns: t, drive torque, angles and speeds of ``rec_dofs``, per bearing Σ Q_j,
+    then housing force x, then y (n_bearings each), mesh forces."""
+    n = q.size
+    nb = bl.shape[0]
+    nm = mf.size
+    nd = rec_dofs.size
+    f = np.zeros(n)
+    vh = np.zeros(n)
+    vp = np.zeros(n)
+    d0 = np.zeros(diss.size)
+    t = sc[0]
+    integ = sc[1]
+    td = sc[2]
+    for step in range(step0, step1):
+        if step % rec_every == 0:
+            record(rec, step // rec_every, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm)
+        # power before the step (trapezoid)
+        p_in0 = fext[drive_dof] * v[drive_dof]
+        p_out0 = -fext[load_dof] * v[load_dof]
+        d0[:] = diss
+        px0 = fx @ v if fx.size > 0 else 0.0
+        for j in range(n):
+            vh[j] = v[j] + 0.5 * dt * a[j]
+            q[j] += dt * vh[j]
+        t += dt
+        for j in range(n):
+            vp[j] = vh[j] + 0.5 * dt * a[j]
+        wr = np.interp(t, t_ref, w_ref)
+        err = wr - ref_sign_speed(vp, ref_dof, ref_sign)
+        integ += err * dt
+        td = t0_drive + kp * err + ki * integ
+        fext[drive_dof] = drive_sign * td
+        diss[:] = 0.0
+        if fx.size > 0:
+            applied_loads(q, vp, a, t, fx, *xargs)
+        _accel(q, vp, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, a,
+               0.5 * dt)
+        for j in range(n):
+            v[j] = vh[j] + 0.5 * dt * a[j]
+        p_in1 = fext[drive_dof] * v[drive_dof]
+        p_out1 = -fext[load_dof] * v[load_dof]
+        energy[E_IN] += 0.5 * dt * (p_in0 + p_in1)
+        energy[E_OUT] += 0.5 * dt * (p_out0 + p_out1)
+        for c in range(5):
+            energy[2 + c] += 0.5 * dt * (d0[c] + diss[c])
+        if fx.size > 0:
+            energy[E_EXT] += 0.5 * dt * (px0 + fx @ v)
+        sc[0] = t
+        sc[1] = integ
+        sc[2] = td
+        if not (abs(q[ref_dof]) < 1e12):
+            return step, 1
+        ok = True
+        for j in range(n):
+            if abs(a[j]) > 1e30 or (j % 6 < 5 and abs(q[j]) > max_disp):
+                ok = False
+        if not ok:
+            return step, 1
+    return step1, 0
+
+
+@njit(cache=True)
+def record(rec, ir, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm):  # pragma: no cover
+    """Row ``ir`` of the records (columns: see :func:`run_chunk`)."""
+    rec[ir, 0] = t
+    rec[ir, 1] = td
+    for j in range(nd):
+        rec[ir, 2 + j] = q[rec_dofs[j]]
+        rec[ir, 2 + nd + j] = v[rec_dofs[j]]
+    for j in range(nb):
+        for c in range(3):
+            rec[ir, 2 + 2 * nd + c * nb + j] = bl[j, c]
+    for j in range(nm):
+        rec[ir, 2 + 2 * nd + 3 * nb + j] = mf[j]
+
+
+@njit(cache=True)
+def ref_sign_speed(v, ref_dof, sign):  # pragma: no cover - compiled
+    return sign * v[ref_dof]
+
+
+def stable_time_step(M: np.ndarray, K_lin: np.ndarray) -> float:
+    """2/ω_max of the linearised undamped system."""
+    from scipy.linalg import eigh
+
+    w2 = eigh(K_lin, M, eigvals_only=True, subset_by_index=[M.shape[0] - 1, M.shape[0] - 1])
+    return 2.0 / math.sqrt(w2[0])
+
+
+#: Loop state carried between chunks and written to checkpoints.
+STATE = ("q", "v", "a", "fext", "diss", "bl", "mf", "energy", "sc", "fx")
+
+
+def run_loop(
+    q, v, dt, n_steps, rec_every, Minv, K, C, bargs, margs,  # noqa: ANN001
+    drive_dof, load_dof, ref_dof, drive_sign, load_sign, ref_sign, load_torque,  # noqa: ANN001
+    t_ref, w_ref, kp, ki, t0_drive, integ0, max_disp, rec_dofs,  # noqa: ANN001
+    control: RunControl | None = None, gargs: tuple | None = None,
+    xargs: tuple | None = None,
+) -> tuple:
+    """Integrate ``n_steps`` steps in chunks; returns (records, energy, steps done, status, q,
+    v, ∫e). status 0 ok, 1 diverged, 2 stopped by ``control`` (the records cover the steps
+    done). ``control.resume`` continues a checkpointed run of the same setup. ``gargs``:
+    :func:`gyroscopic_args` (default none); ``xargs``: applied loads (see
+    :func:`applied_loads`; default none). Energy channels: see ``E_IN`` … ``E_EXT``."""
+    gargs = gargs if gargs is not None else no_gyroscopic()
+    Minv, K = csr(Minv), csr(K)
+    xargs = xargs if xargs is not None else no_loads()
+    nx = xargs[0].size + xargs[3].size
+    ctl = control or RunControl()
+    n = q.size
+    nb = bargs[0].size
+    nm = margs[0].size
+    nd = rec_dofs.size
+    nrec = n_steps // rec_every + 1
+    check_record_size(nrec, 2 + 2 * nd + 3 * nb + nm, "lower transmission.simulation."
+                      "record_rate_hz or the revolutions")
+    rec = np.zeros((nrec, 2 + 2 * nd + 3 * nb + nm))
+    st = {"q": np.array(q, float), "v": np.array(v, float), "a": np.zeros(n),
+          "fext": np.zeros(n), "diss": np.zeros(5), "bl": np.zeros((nb, 3)), "mf": np.zeros(nm),
+          "energy": np.zeros(8), "sc": np.zeros(3), "fx": np.zeros(n if nx else 0)}
+    run_id = {"scheme": "verlet", "nsteps": int(n_steps), "dt": float(dt),
+              "rec_every": int(rec_every), "n": int(n), "ncols": int(rec.shape[1]),
+              "gyroscopic": int(gargs[0].size), "loads": int(nx)}
+    if ctl.resume is not None:
+        done = _resume(ctl.resume, run_id, st, rec)
+    else:
+        start_loop(st["q"], st["v"], Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof,
+                   drive_sign, load_sign, ref_sign, load_torque, t_ref, w_ref, kp, ki,
+                   t0_drive, integ0, st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
+                   st["sc"], gargs, xargs, st["fx"])
+        done = 0
+
+    def state() -> dict:
+        return {**run_id, "step": done, **st, "rec": rec[: _recorded(done, rec_every)]}
+
+    status = 0
+    while done < n_steps:
+        m = ctl.next_chunk(done, n_steps)
+        w = time.perf_counter()
+        reached, code = run_chunk(
+            st["q"], st["v"], st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
+            st["energy"], st["sc"], done, done + m, dt, rec_every, rec, Minv, K, C, bargs,
+            margs, drive_dof, load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki,
+            t0_drive, max_disp, rec_dofs, gargs, xargs, st["fx"])
+        w = time.perf_counter() - w
+        if code != 0:
+            done, status = reached, 1
+            break
+        done += m
+        ctl.chunk_done(m, w, done, n_steps, state)
+        if ctl.stop_requested and done < n_steps:
+            status = 2
+            break
+    if status == 0 and n_steps % rec_every == 0:
+        sc = st["sc"]
+        record(rec, n_steps // rec_every, sc[0], sc[2], st["q"], st["v"], st["bl"], st["mf"],
+               rec_dofs, nd, nb, nm)
+    if status == 0:
+        rows = n_steps // rec_every + 1
+    elif status == 1:  # advancing from step `done` failed: that step was recorded if due
+        rows = _recorded(done + 1, rec_every)
+    else:
+        rows = _recorded(done, rec_every)
+    return (rec[:rows], st["energy"], done, status, st["q"], st["v"], float(st["sc"][1]))
+
+
+def _resume(saved: dict, run_id: dict, st: dict, rec: np.ndarray) -> int:
+    """Fill the loop state and the records from checkpoint ``saved`` (same run only)."""
+    for k, val in run_id.items():
+        got = saved.get(k)
+        got = got.item() if isinstance(got, np.ndarray) and got.ndim == 0 else got
+        if got != val:
+            raise InputError(f"resume: the checkpoint is of another run ({k} = {got!r}, this "
+                             f"run has {val!r})")
+    for k in STATE:
+        st[k][...] = saved[k]
+    done = int(saved["step"])
+    rec[: _recorded(done, run_id["rec_every"])] = saved["rec"]
+    return done
+
+
+def _recorded(steps: int, rec_every: int) -> int:
+    """Rows recorded once global steps 0 … steps − 1 have been advanced."""
+    return (steps + rec_every - 1) // rec_every
