@@ -2,7 +2,11 @@
 wheels, bearings and gear meshes as connecting forces; modal analysis and modal damping.
 
 Global DOFs: 6 per node (x, y, z, θx, θy, θz), shafts numbered in config order, nodes along
-+z from each shaft start. SI units.
++z from each shaft start. SI units. The linear part is built on the one assembly core
+(:class:`geardyn.models.core.assembly.Assembly`): every node registers its DOFs as
+``{shaft}.n{i}.{x,y,z,rx,ry,rz}`` (the order of :mod:`geardyn.elements.beam`), every Timoshenko
+element and every wheel disc is a block whose kind is its shaft's name, so the per-shaft
+gyroscopic matrix is ``assembly.matrix("G", kinds=[shaft])``.
 """
 
 from __future__ import annotations
@@ -18,6 +22,16 @@ from geardyn.elements.beam import ShaftSection, timoshenko_element, timoshenko_g
 from geardyn.elements.disc import disc_gyroscopic, rigid_disc, solid_disc_properties
 from geardyn.errors import ConfigError, InputError
 from geardyn.gears.contact import johnson_modulus
+from geardyn.models.core.assembly import Assembly
+
+#: DOF labels of an FE shaft node, in the order of :func:`geardyn.elements.beam.timoshenko_element`
+#: (translations x, y, z then rotations θx, θy, θz; m and rad).
+NODE_DOFS = ("x", "y", "z", "rx", "ry", "rz")
+
+
+def node_dofs(shaft: str, local: int) -> list[str]:
+    """Names of the 6 DOFs of node ``local`` of ``shaft`` (``output.n3.ry``)."""
+    return [f"{shaft}.n{local}.{d}" for d in NODE_DOFS]
 
 
 @dataclass
@@ -107,6 +121,29 @@ class TransmissionModel:
     C: np.ndarray | None = None
     gyroscopic: dict[str, np.ndarray] = field(default_factory=dict)
     """Per shaft: gyroscopic matrix (shaft elements + its wheels) per rad/s of that shaft."""
+    assembly: Assembly | None = None
+    """The linear elements on the assembly core (Timoshenko elements, wheel discs)."""
+
+    @property
+    def dof_names(self) -> list[str]:
+        """Name of every DOF (``{shaft}.n{i}.{x,y,z,rx,ry,rz}``), in the order of M and K."""
+        if self.assembly is not None:
+            return list(self.assembly.names)
+        node_shaft = {nd: (s, j) for s, ids in self.shaft_nodes.items()
+                      for j, nd in enumerate(ids)}
+        return [f"{node_shaft[i // 6][0]}.n{node_shaft[i // 6][1]}.{NODE_DOFS[i % 6]}"
+                for i in range(self.ndof)]
+
+    def dof(self, shaft: str, local: int, label: str) -> int:
+        """Global index of DOF ``label`` (one of x, y, z, rx, ry, rz) of a shaft node."""
+        if label not in NODE_DOFS:
+            raise InputError(f"DOF label must be one of {', '.join(NODE_DOFS)}, got {label!r}")
+        if shaft not in self.shaft_nodes:
+            raise InputError(f"unknown shaft '{shaft}' (one of {', '.join(self.shaft_nodes)})")
+        ids = self.shaft_nodes[shaft]
+        if not 0 <= local < len(ids):
+            raise InputError(f"shaft '{shaft}' has nodes 0..{len(ids) - 1}, got {local}")
+        return 6 * ids[local] + NODE_DOFS.index(label)
 
     @property
     def ndof(self) -> int:
@@ -197,46 +234,34 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
     t = cfg.transmission
     if t is None:
         raise ConfigError("transmission: section missing (nothing to simulate)")
-    # --- shafts
+    # --- shafts: 6 named DOFs per node, one Timoshenko block per element (kind = shaft name)
+    asm = Assembly()
     shaft_nodes: dict[str, list[int]] = {}
     xyz = []
-    blocks = []
     n0 = 0
+    for s in t.shafts:
+        ids = list(range(n0, n0 + s.elements + 1))
+        shaft_nodes[s.name] = ids
+        for i in range(s.elements + 1):
+            asm.add_dofs(f"{s.name}.n{i}", NODE_DOFS)
+            xyz.append((s.position_m[0], s.position_m[1], s.length_m * i / s.elements))
+        n0 += s.elements + 1
     for s in t.shafts:
         sec = ShaftSection(
             s.outer_diameter_m, s.inner_diameter_m, s.youngs_modulus_pa, s.poisson_ratio,
             s.density_kg_m3,
         )
-        k, m = assemble_shaft(sec, s.length_m, s.elements)
-        blocks.append((k, m))
-        ids = list(range(n0, n0 + s.elements + 1))
-        shaft_nodes[s.name] = ids
-        for i in range(s.elements + 1):
-            xyz.append((s.position_m[0], s.position_m[1], s.length_m * i / s.elements))
-        n0 += s.elements + 1
-    ndof = 6 * n0
-    K = np.zeros((ndof, ndof))
-    M = np.zeros((ndof, ndof))
-    gyro: dict[str, np.ndarray] = {}
-    for (k, m), s in zip(blocks, t.shafts, strict=True):
-        a = 6 * shaft_nodes[s.name][0]
-        K[a : a + k.shape[0], a : a + k.shape[0]] += k
-        M[a : a + k.shape[0], a : a + k.shape[0]] += m
-        sec = ShaftSection(
-            s.outer_diameter_m, s.inner_diameter_m, s.youngs_modulus_pa, s.poisson_ratio,
-            s.density_kg_m3,
-        )
+        ke, me = timoshenko_element(s.length_m / s.elements, sec)
         ge = timoshenko_gyroscopic(s.length_m / s.elements, sec)
-        G = np.zeros((ndof, ndof))
         for e in range(s.elements):
-            G[a + 6 * e : a + 6 * e + 12, a + 6 * e : a + 6 * e + 12] += ge
-        gyro[s.name] = G
+            dofs = node_dofs(s.name, e) + node_dofs(s.name, e + 1)
+            asm.add_block(f"{s.name}.e{e}", s.name, dofs, K=ke, M=me, G=ge)
     node_xyz = np.array(xyz)
 
     def node(ref) -> int:  # noqa: ANN001
         return shaft_nodes[ref.shaft][ref.node]
 
-    # --- wheels (rigid discs between bore and pitch radius)
+    # --- wheels (rigid discs between bore and pitch radius; M and G blocks on their node)
     pairs = {m.pair: pair_model(cfg, m.pair) for m in t.meshes}
     for w in t.wheels:
         pm = pairs.get(w.pair) or pair_model(cfg, w.pair)
@@ -247,9 +272,11 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         mass, ip, idia = solid_disc_properties(
             g.pitch_radius[side], r_in, g.face_width, blank.material.density
         )
-        d = 6 * node(w.at)
-        M[d : d + 6, d : d + 6] += rigid_disc(mass, ip, idia)
-        gyro[w.at.shaft][d : d + 6, d : d + 6] += disc_gyroscopic(ip)
+        asm.add_block(f"wheel.{w.pair}.{w.gear}", w.at.shaft, node_dofs(w.at.shaft, w.at.node),
+                      M=rigid_disc(mass, ip, idia), G=disc_gyroscopic(ip))
+    K = asm.matrix("K")
+    M = asm.matrix("M")
+    gyro = {s.name: asm.matrix("G", kinds=[s.name]) for s in t.shafts}
     # --- bearings
     nb = len(t.bearings)
     B = Bearings(
@@ -373,7 +400,7 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         M=M, K=K, node_xyz=node_xyz, shaft_nodes=shaft_nodes, shaft_sign=sign, bearings=B,
         meshes=Mh, drive_node=drive_node, load_node=load_node,
         drive_torque=t.drive.torque_nm, load_torque=t.load.torque_nm,
-        modal_damping=t.modal_damping, gyroscopic=gyro,
+        modal_damping=t.modal_damping, gyroscopic=gyro, assembly=asm,
     )
 
 
