@@ -70,6 +70,11 @@ class MeshDynamics(_M):
                                         "(c = 2ζ√(k m_eq))")
     transmission_error_m: float = Field(0.0, ge=0, description="amplitude of a sinusoidal "
                                         "transmission error at the mesh frequency (m)")
+    backlash_m: float = Field(
+        0.0, ge=0, description="normal backlash along the line of action (m): no force while "
+        "−b < δ < 0 (δ > 0 on the flank loaded by the initial drives), back-flank contact "
+        "F = k (δ + b) for δ ≤ −b; 0: no backlash (simulation.contact_loss then gives the "
+        "one-sided law)")
     position_angle_deg: float | None = Field(
         None, description="lateral model: direction (deg) from gear a's centre to gear b's "
         "(from the internal gear's centre for an internal pair); planetary meshes take the "
@@ -104,7 +109,8 @@ class DynamicsSimulation(_M):
     solver: Literal["newmark", "lowrank"] = Field(
         "newmark", description="newmark: solve/integrate.py (dense solve per step); lowrank: "
         "constant part factored once, mesh changes as a Woodbury update (solve/lowrank.py)")
-    contact_loss: bool = Field(False, description="mesh force 0 when the deflection is < 0")
+    contact_loss: bool = Field(False, description="mesh force 0 when the deflection is < 0 "
+                               "(meshes without backlash_m; a backlash implies it)")
     gyroscopic: bool = Field(False, description="lateral model: gyroscopic and centripetal "
                              "terms of each carrier frame at its current speed (seed 003 eq "
                              "3.1)")

@@ -61,6 +61,10 @@ class MeshParams(_M):
     contact_ratio: float | None = Field(None, ge=1, le=2)
     amplitude: float = Field(0.0, ge=0, lt=1, description="sine: relative amplitude")
     damping_ns_per_m: float = Field(0.0, ge=0, description="viscous mesh damping (N·s/m)")
+    backlash_m: float = Field(
+        0.0, ge=0, description="normal backlash along the line of action (m) of every mesh of "
+        "this kind in the stage: no force while −b < δ < 0, back-flank contact F = k (δ + b) "
+        "for δ ≤ −b; 0: no backlash (simulation.contact_loss then gives the one-sided law)")
     load_law: MeshLoadLaw | None = Field(
         None, description="square only, opt-in: contact ratio (and stiffness) rising with the "
         "static mesh force (geardyn.models.planetary.loads.loaded_square_mesh)")
@@ -266,7 +270,8 @@ class Simulation(_M):
 
     save_every: int = Field(1, ge=1)
     hht_alpha: float = Field(0.0, ge=0, le=1 / 3)
-    contact_loss: bool = False
+    contact_loss: bool = Field(False, description="mesh force 0 when the deflection is < 0 "
+                               "(meshes without backlash_m; a backlash implies it)")
     rayleigh_alpha: float = Field(0.0, ge=0, description="C = α M + β K (1/s)")
     rayleigh_beta: float = Field(0.0, ge=0, description="(s)")
     modal_damping_ratio: float = Field(0.0, ge=0, lt=1, description="ζ on every elastic mode")

@@ -5,7 +5,9 @@ Generic interface (any lumped model, not only planetary): constant M₀, C₀, K
 - *variable springs* (:class:`VarSprings`): rank-one springs with deflection δ = aᵀq + e,
   stiffness k(X) and displacement error e(X) tabulated periodically over a coordinate
   X = bᵀq + X₀ (mesh cycles for gear meshes, so the mesh phase follows the integrated body
-  angles), viscous damping c along a, optional contact loss (k = c = 0 when δ < 0);
+  angles), viscous damping c along a, optional contact loss (k = c = 0 when δ < 0) or
+  backlash b (tooth separation for −b < δ < 0, back-flank contact F = k (δ + b) for δ ≤ −b:
+  :func:`_contact`);
 - *torque elements* (:class:`Drives`): speed–torque curves (motors), fluid couplings, speed-
   squared loads with an angle schedule, imposed speed (stiff speed control);
 - a tabulated force history F(t), an optional mass schedule M_ii(θ) and optional gyroscopic
@@ -56,6 +58,29 @@ class VarSprings:
     eper: np.ndarray
     c: np.ndarray  # (ns,) damping
     contact_loss: np.ndarray  # (ns,) int8
+    backlash: np.ndarray | None = None  # (ns,) m along a, ≥ 0 (None: zeros)
+
+    def __post_init__(self) -> None:
+        if self.backlash is None:
+            self.backlash = np.zeros(self.a.shape[0])
+
+    def gap(self) -> np.ndarray:
+        """The contact law of each spring as the kernels take it (m): 0 two-sided linear,
+        b > 0 backlash (separation for −b < δ < 0, back flank for δ ≤ −b), ∞ one-sided
+        (``contact_loss`` with b = 0: an infinite backlash). A backlash b > 0 implies contact
+        loss, whatever ``contact_loss`` says. Raises InputError on a negative or non-finite
+        backlash, naming the spring."""
+        from geardyn.errors import InputError
+
+        b = np.asarray(self.backlash, float)
+        if b.shape != (self.a.shape[0],):
+            raise InputError(f"backlash: {b.shape} values for {self.a.shape[0]} variable "
+                             "springs")
+        bad = np.flatnonzero(~np.isfinite(b) | (b < 0))
+        if bad.size:
+            raise InputError(f"backlash of variable spring #{bad[0]}: {b[bad[0]]!r} m must be "
+                             "finite and ≥ 0")
+        return np.where(b > 0, b, np.where(np.asarray(self.contact_loss) == 1, np.inf, 0.0))
 
     @staticmethod
     def empty(n: int) -> VarSprings:
@@ -68,7 +93,7 @@ class VarSprings:
     @staticmethod
     def build(rows: list[dict], n: int) -> VarSprings:
         """From dicts with keys a, b, x0, k (array over one period), k_period, e, e_period, c,
-        contact_loss."""
+        contact_loss, backlash (m)."""
         if not rows:
             return VarSprings.empty(n)
         lk = max(len(r["k"]) for r in rows)
@@ -86,7 +111,9 @@ class VarSprings:
             np.array([r.get("e_period", 1.0) for r in rows], float),
             np.array([r.get("c", 0.0) for r in rows], float),
             np.array([1 if r.get("contact_loss", False) else 0 for r in rows], np.int8),
+            np.array([r.get("backlash", 0.0) for r in rows], float),
         )
+        out.gap()  # validates the backlash
         for i, r in enumerate(rows):
             out.ktab[i, : len(r["k"])] = r["k"]
             e = np.asarray(r.get("e", [0.0]), float)
@@ -213,7 +240,24 @@ def _periodic(x: float, tab: np.ndarray, n: int, period: float) -> float:
 
 
 @nb.njit(cache=True)
-def _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kout, eout, dout):
+def _contact(d, g):
+    """Contact state of a mesh with deflection d (m, drive flank d > 0) and gap g
+    (:meth:`VarSprings.gap`): (1, 0) drive flank or two-sided linear spring (g = 0); (0, s)
+    teeth separated, −g < d < 0, no force (s = g past mid-gap, else 0, the flank the stored
+    energy is booked against); (−1, g) back flank, d ≤ −g: F = k (d + g) ≤ 0. The backlash law
+    of the piecewise-linear clearance oscillator (Kahraman & Singh 1990, seed 004 §2.2 ref. 9);
+    g = ∞ gives the one-sided law of seed 004 eq 3.2."""
+    if g == 0.0 or d >= 0.0:
+        return 1, 0.0
+    if d > -g:
+        return 0, (g if d <= -0.5 * g else 0.0)
+    return -1, g
+
+
+@nb.njit(cache=True)
+def _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, gap, kout, eout, dout):
+    """k (tangent: 0 while separated), effective error e + s (the force is k (aᵀq + e + s))
+    and deflection δ = aᵀq + e of every variable spring at q (dense a, b rows)."""
     ns = sa.shape[0]
     n = q.shape[0]
     for e in range(ns):
@@ -225,10 +269,11 @@ def _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kout,
         k = _periodic(x, ktab[e], klen[e], kper[e])
         er = _periodic(x, etab[e], elen[e], eper[e])
         d += er
-        if closs[e] == 1 and d < 0.0:
-            k = 0.0  # contact lost (seed 004 eq 3.2)
+        state, shift = _contact(d, gap[e])
+        if state == 0:
+            k = 0.0  # teeth separated (seed 004 eq 3.2)
         kout[e] = k
-        eout[e] = er
+        eout[e] = er + shift
         dout[e] = d
 
 
@@ -341,8 +386,9 @@ def _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, f
 
 
 @nb.njit(cache=True)
-def _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, dout):
-    """vᵀC₀v (C₀ in CSR) plus Σ c (aᵀv)² of the mesh dampers in contact (W)."""
+def _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, gap, shift, deff):
+    """vᵀC₀v (C₀ in CSR) plus Σ c (aᵀv)² of the mesh dampers in contact (W); contact from the
+    deflection δ = ``deff`` − ``shift`` (effective deflection less the flank shift)."""
     p = 0.0
     for i in range(v.shape[0]):
         s = 0.0
@@ -350,7 +396,10 @@ def _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, dout):
             s += c0x[k] * v[c0i[k]]
         p += v[i] * s
     for e in range(an.shape[0]):
-        if sc[e] == 0.0 or (closs[e] == 1 and dout[e] < 0.0):
+        if sc[e] == 0.0:
+            continue
+        state, _s = _contact(deff[e] - shift[e], gap[e])
+        if state == 0:
             continue
         w = 0.0
         for k in range(an[e]):
@@ -360,7 +409,7 @@ def _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, dout):
 
 
 @nb.njit(cache=True)
-def _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, closs, kout, eout,
+def _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, gap, sout, kout, eout,
                  dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr,
                  en, ek, ee, ed, fbuf):
     """Energy accumulators over one step ending at state (q, v, t).
@@ -369,8 +418,11 @@ def _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, closs, kout, eout,
     gross applied work ∫Σ|F_j v_j|, gross applied power] (powers at the previous state);
     ``ek``, ``ee``, ``ed`` = k, e, δ of each variable spring at the previous state, updated to
     the new one: k and e are those the step used (``kout``, ``eout``, at the Newmark
-    predictor), δ = aᵀq + e. Trapezoidal rule for the powers; the parametric work of a spring
-    (stiffness and error varying with the mesh position) over the step is
+    predictor), δ = aᵀq + e. With backlash e and δ are the effective ones, shifted by the
+    flank offset ``sout`` (:func:`_contact`), so that ½kδ² is the contact's energy; a change
+    of flank happens while separated (k = 0) and books no work. Trapezoidal rule for the
+    powers; the parametric work of a spring (stiffness and error varying with the mesh
+    position) over the step is
     ½Δk·(δ₀² + δ₁²)/2 + k̄ δ̄ Δe, so that with the spring work k̄ δ̄ aᵀΔq it adds up exactly to
     Δ(½kδ²) for any sequence of k and e."""
     pa, pg = _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
@@ -387,7 +439,7 @@ def _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, closs, kout, eout,
         ek[e] = k
         ee[e] = er
         ed[e] = d
-    pd = _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, ed)
+    pd = _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, gap, sout, ed)
     en[0] += 0.5 * dt * (en[3] + pa)
     en[1] += 0.5 * dt * (en[4] + pd)
     en[2] += wp
@@ -433,10 +485,12 @@ def _lu_solve(A, b):
 
 
 @nb.njit(cache=True)
-def _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-               kout, eout, dout, cout):
-    """k, e, δ = aᵀq + e and damping c of every variable spring at q (sparse a, b rows);
-    contact loss (δ < 0): k = c = 0 (seed 004 eq 3.2)."""
+def _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc, gap,
+               kout, eout, dout, cout, sout):
+    """Tangent k, effective error e + s, deflection δ = aᵀq + e, damping c and flank shift s
+    of every variable spring at q (sparse a, b rows); the force is k (aᵀq + e + s) + c aᵀq̇.
+    Contact law :func:`_contact`: separated (contact loss, seed 004 eq 3.2, or within the
+    backlash) k = c = 0; back flank s = b."""
     for e in range(sx0.shape[0]):
         x = sx0[e]
         for p in range(bn[e]):
@@ -448,13 +502,25 @@ def _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, epe
         er = _periodic(x, etab[e], elen[e], eper[e])
         d += er
         c = sc[e]
-        if closs[e] == 1 and d < 0.0:
+        state, shift = _contact(d, gap[e])
+        if state == 0:
             k = 0.0
             c = 0.0
         kout[e] = k
-        eout[e] = er
+        eout[e] = er + shift
         dout[e] = d
         cout[e] = c
+        sout[e] = shift
+
+
+@nb.njit(cache=True)
+def _secant(k, d, s):
+    """Recorded stiffness F/δ of a spring at tangent k, deflection d, flank shift s: k on the
+    drive flank, 0 separated, k (d + s)/d on the back flank (so that k·δ is the contact
+    force)."""
+    if s == 0.0 or k == 0.0:
+        return k
+    return k * (d + s) / d
 
 
 @nb.njit(cache=True)
@@ -533,7 +599,7 @@ def _mass_diag(q, M0, md, mc, mh, mtx, mty, mtl, dm):
 
 
 @nb.njit(cache=True)
-def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+def _newmark_kernel(M0, sc, gap, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
                     md, mc, mh, mtx, mty, mtl, gg, gk, gr, c0p, c0i, c0x, kp, ki, kx, cp, ci, cx,
                     ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, cidx,
                     A0, A0inv, Z, UZ, kbar, cbar, lowrank,
@@ -586,6 +652,7 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
     eout = np.empty(ns)
     dout = np.empty(ns)
     cout = np.empty(ns)
+    sout = np.empty(ns)
     blocks = np.zeros((nc, 2, 2))
     om = np.zeros(gg.shape[0])
     dm = np.zeros(nm)
@@ -597,7 +664,7 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
     if start:
         t = t0 + step0 * dt
         _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc,
-                   closs, kout, eout, dout, cout)
+                   gap, kout, eout, dout, cout, sout)
         _force_table(t, ft, fv, f)
         _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
         _coupling_blocks(v, cidx, da, db, dha, dhb, dp0, dp1, blocks)
@@ -617,12 +684,12 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
         for e in range(ns):
             ek[e] = kout[e]
             ee[e] = eout[e]
-            ed[e] = dout[e]
-            KS[0, e] = kout[e]
+            ed[e] = dout[e] + sout[e]
+            KS[0, e] = _secant(kout[e], dout[e], sout[e])
             DS[0, e] = dout[e]
         en[3], en[6] = _applied_power(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl,
                                       ft, fv, gg, gk, gr, fbuf)
-        en[4] = _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, closs, dout)
+        en[4] = _dissipated_power(v, c0p, c0i, c0x, ai, ax, an, sc, gap, sout, ed)
     for local in range(1, nsteps + 1):
         step = step0 + local
         t = t0 + step * dt
@@ -630,7 +697,7 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
             qp[i] = q[i] + dt * v[i] + h1 * acc[i]
             vp[i] = v[i] + h2 * acc[i]
         _mesh_eval(qp, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc,
-                   closs, kout, eout, dout, cout)
+                   gap, kout, eout, dout, cout, sout)
         _force_table(t, ft, fv, f)
         _drive_forces(t, qp, vp, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
         _coupling_blocks(vp, cidx, da, db, dha, dhb, dp0, dp1, blocks)
@@ -732,7 +799,7 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
         if bad >= 0:
             return local - 1, 1, bad
         if energy:
-            _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, closs, kout, eout, dk, da,
+            _energy_step(t, q, v, dt, c0p, c0i, c0x, ai, ax, an, sc, gap, sout, kout, eout, dk, da,
                          db, dha, dhb,
                          dp0, dp1, dtx, dty, dtl, ft, fv, gg, gk, gr, en, ek, ee, ed, fbuf)
         if step % save_every == 0:
@@ -741,7 +808,7 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
                 Q[row, i] = q[i]
                 V[row, i] = v[i]
             for e in range(ns):
-                KS[row, e] = kout[e]
+                KS[row, e] = _secant(kout[e], dout[e], sout[e])
                 DS[row, e] = dout[e]
             TS[row] = t
     if nsteps > 0:
@@ -754,7 +821,7 @@ def _newmark_kernel(M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl
 
 
 @nb.njit(cache=True)
-def _rhs_kernel(t, y, M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
+def _rhs_kernel(t, y, M0, sc, gap, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
                 md, mc, mh, mtx, mty, mtl, gg, gk, gr, c0p, c0i, c0x, kp, ki, kx, cp, ci, cx,
                 ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, cidx):
     """y' = [v, M(q)⁻¹ (F − C v − K q)] at (t, y = [q, v]) (seed 004 eq 3.41), with the
@@ -774,8 +841,8 @@ def _rhs_kernel(t, y, M0, sc, closs, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, d
     blocks = np.zeros((cidx.shape[0], 2, 2))
     om = np.zeros(gg.shape[0])
     dm = np.zeros(md.shape[0])
-    _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc, closs,
-               kout, eout, dout, cout)
+    _mesh_eval(q, ai, ax, an, bi, bx, bn, sx0, ktab, klen, kper, etab, elen, eper, sc, gap,
+               kout, eout, dout, cout, np.empty(ns))
     _force_table(t, ft, fv, f)
     _drive_forces(t, q, v, dk, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
     _coupling_blocks(v, cidx, da, db, dha, dhb, dp0, dp1, blocks)
@@ -879,7 +946,7 @@ def _step_args(sys: LinearSystem, dt: float, alpha: float, solve: str) -> tuple[
         a0inv, z, uz = np.zeros((0, 0)), np.zeros((n, 0)), np.zeros((0, 0))
     ai, ax, an = _sparse_rows(a)
     bi, bx, bn = _sparse_rows(np.asarray(s.b, float))
-    args = (np.ascontiguousarray(sys.M, float), s.c, s.contact_loss,
+    args = (np.ascontiguousarray(sys.M, float), s.c, s.gap(),
             d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen,
             np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float),
             ms.dof, ms.ctrl, ms.h, ms.tx, ms.ty, ms.tlen,
@@ -904,8 +971,8 @@ class IntegrationResult:
     t: np.ndarray
     q: np.ndarray
     v: np.ndarray
-    k: np.ndarray  # variable-spring stiffness at saved steps
-    delta: np.ndarray  # variable-spring deflection (incl. error) at saved steps
+    k: np.ndarray  # variable-spring stiffness F/δ at saved steps (0 while separated)
+    delta: np.ndarray  # variable-spring deflection (incl. error) at saved steps; k·δ = force
     status: str
     diagnosis: str
     wall_s: float
@@ -1092,6 +1159,7 @@ def reference_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray
     independent check of the kernels; written from the equations, not from the kernels)."""
     s, d, ms = sys.springs, sys.drives, sys.mass_schedule
     n = sys.n
+    backlash = np.asarray(s.backlash, float)
 
     def periodic(x: float, tab: np.ndarray, ln: int, per: float) -> float:
         if ln == 1:
@@ -1124,11 +1192,15 @@ def reference_rhs(sys: LinearSystem) -> Callable[[float, np.ndarray], np.ndarray
             er = periodic(x, s.etab[e], s.elen[e], s.eper[e])
             delta = s.a[e] @ q + er
             c = s.c[e]
-            if s.contact_loss[e] and delta < 0:
-                k, c = 0.0, 0.0
+            back = 0.0  # back flank: F = k (δ + b)
+            if delta < 0 and (s.contact_loss[e] or backlash[e] > 0):
+                if backlash[e] > 0 and delta <= -backlash[e]:
+                    back = backlash[e]
+                else:
+                    k, c = 0.0, 0.0
             K += k * np.outer(s.a[e], s.a[e])
             C += c * np.outer(s.a[e], s.a[e])
-            f -= k * er * s.a[e]
+            f -= k * (er + back) * s.a[e]
         for i in range(len(d.kind)):
             a = d.a[i]
             ln = d.tlen[i]

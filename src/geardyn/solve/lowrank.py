@@ -9,7 +9,8 @@ is split into a constant sparse part A₀ (mass, linear elements, speed controls
 at its *mean* stiffness and damping), factored once with a sparse LU, and a low-rank change
 U D(t) Uᵀ: U holds the mesh deflection vectors a_e (and the two DOFs of each fluid coupling,
 whose linearised damping block changes with the speeds), D(t) the deviations
-(1 − α)(β Δt² (k_e(t) − k̄_e) + γ Δt (c_e(t) − c̄_e)) (contact loss: k = c = 0). Each step
+(1 − α)(β Δt² (k_e(t) − k̄_e) + γ Δt (c_e(t) − c̄_e)) (teeth separated, by contact loss or
+within the backlash: k = c = 0; back flank: tangent k, force k (δ + b)). Each step
 solves (Sherman–Morrison–Woodbury, Golub & Van Loan §2.1.4)
 
     x = y − Z (I + D UᵀZ)⁻¹ D Uᵀ y,   y = A₀⁻¹ b,   Z = A₀⁻¹ U (precomputed),
@@ -38,10 +39,12 @@ from geardyn.solve.integrate import (
     SPEED_CONTROL,
     IntegrationResult,
     LinearSystem,
+    _contact,
     _coupling_blocks,
     _drive_forces,
     _force_table,
     _mesh_state,
+    _secant,
     compiled_rhs,
 )
 
@@ -162,17 +165,20 @@ def _products(kp, ki, kx, cp, ci, cx, w, dk, dc, ca, cb, blocks, x, vel, out):
 
 
 @nb.njit(cache=True)
-def _state(q, v, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar, cbar,
+def _state(q, v, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, gap, kbar, cbar,
            dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, ca, cidx,
-           kout, eout, dout, f, dk, dc, blocks):
-    """Mesh state, force vector and the deviations from the constant part at (q, v, t)."""
-    _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kout, eout, dout)
+           kout, eout, dout, f, dk, dc, blocks, ks):
+    """Mesh state, force vector and the deviations from the constant part at (q, v, t);
+    ``ks`` the recorded stiffness F/δ (:func:`~geardyn.solve.integrate._secant`)."""
+    _mesh_state(q, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, gap, kout, eout, dout)
     _force_table(t, ft, fv, f)
     _drive_forces(t, q, v, dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, f)
     n = q.shape[0]
     for e in range(sa.shape[0]):
-        lost = closs[e] == 1 and dout[e] < 0.0
-        k = 0.0 if lost else kout[e]
+        state, shift = _contact(dout[e], gap[e])
+        lost = state == 0
+        k = kout[e]
+        ks[e] = _secant(k, dout[e], shift)
         dk[e] = k - kbar[e]
         dc[e] = (0.0 if lost else cbar[e]) - cbar[e]
         if k != 0.0 and eout[e] != 0.0:
@@ -184,7 +190,7 @@ def _state(q, v, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar
 @nb.njit(cache=True)
 def _lowrank_kernel(kp, ki, kx, cp, ci, cx, w, kbar, cbar, z, uz, ca, cb, cidx,
                     perm_r, perm_c, lp, li, lx, up, ui, ux,
-                    sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs,
+                    sa, sb, sx0, ktab, klen, kper, etab, elen, eper, gap,
                     dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv,
                     q0, v0, acc0, t0, dt, nsteps, save_every, alpha, qlim,
                     Q, V, KS, DS, TS):
@@ -198,7 +204,7 @@ def _lowrank_kernel(kp, ki, kx, cp, ci, cx, w, kbar, cbar, z, uz, ca, cb, cidx,
     gamma = 0.5 + alpha
     fa = 1.0 - alpha
     kout, eout, dout = np.empty(ns), np.empty(ns), np.empty(ns)
-    dk, dc = np.empty(ns), np.empty(ns)
+    dk, dc, ks = np.empty(ns), np.empty(ns), np.empty(ns)
     f, prod, rhs, y = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     blocks = np.zeros((nc, 2, 2))
     dmat = np.zeros((m, m))
@@ -206,14 +212,14 @@ def _lowrank_kernel(kp, ki, kx, cp, ci, cx, w, kbar, cbar, z, uz, ca, cb, cidx,
     q = q0.copy()
     v = v0.copy()
     acc = acc0.copy()
-    _state(q, v, t0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar, cbar,
+    _state(q, v, t0, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, gap, kbar, cbar,
            dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, ca, cidx,
-           kout, eout, dout, f, dk, dc, blocks)
+           kout, eout, dout, f, dk, dc, blocks, ks)
     _products(kp, ki, kx, cp, ci, cx, w, dk, dc, ca, cb, blocks, q, v, prod)
     r0 = f - prod
     Q[0] = q
     V[0] = v
-    KS[0] = dk + kbar
+    KS[0] = ks
     DS[0] = dout
     TS[0] = t0
     isave = 1
@@ -221,9 +227,9 @@ def _lowrank_kernel(kp, ki, kx, cp, ci, cx, w, kbar, cbar, z, uz, ca, cb, cidx,
         t = t0 + step * dt
         qp = q + dt * v + dt * dt * (0.5 - beta) * acc
         vp = v + dt * (1.0 - gamma) * acc
-        _state(qp, vp, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, closs, kbar, cbar,
+        _state(qp, vp, t, sa, sb, sx0, ktab, klen, kper, etab, elen, eper, gap, kbar, cbar,
                dkind, da, db, dha, dhb, dp0, dp1, dtx, dty, dtl, ft, fv, ca, cidx,
-               kout, eout, dout, f, dk, dc, blocks)
+               kout, eout, dout, f, dk, dc, blocks, ks)
         _products(kp, ki, kx, cp, ci, cx, w, dk, dc, ca, cb, blocks, qp, vp, prod)
         for i in range(n):
             rhs[i] = fa * (f[i] - prod[i]) + alpha * r0[i]
@@ -262,7 +268,7 @@ def _lowrank_kernel(kp, ki, kx, cp, ci, cx, w, kbar, cbar, z, uz, ca, cb, cidx,
         if step % save_every == 0:
             Q[isave] = q
             V[isave] = v
-            KS[isave] = dk + kbar
+            KS[isave] = ks
             DS[isave] = dout
             TS[isave] = t
             isave += 1
@@ -310,7 +316,7 @@ def newmark_lowrank(
              np.array([d.b[i] for i in st.couplings], np.int64),
              np.array(st.couplings, np.int64),
              lu.perm_r.astype(np.int64), lu.perm_c.astype(np.int64), *_csc(lu.L), *_csc(lu.U),
-             s.a, s.b, s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper, s.contact_loss,
+             s.a, s.b, s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper, s.gap(),
              d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen,
              np.asarray(sys.force_t, float), np.ascontiguousarray(sys.force, float))
     q, v, t = np.asarray(q0, float).copy(), np.asarray(v0, float).copy(), float(t0)

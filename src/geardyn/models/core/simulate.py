@@ -161,9 +161,13 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
     drives, t_grid, force, schedule = drive_rows(model, sim, t_end)
     v0 = rigid_velocity(model, dict(sim.initial_speed_rpm))
 
+    backlash = mesh_backlash(cfg, model)
+
     def build() -> LinearSystem:
-        return model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
-                            sim.contact_loss, schedule, sim.gyroscopic)
+        system = model.system((sim.rayleigh_alpha, sim.rayleigh_beta), drives, t_grid, force,
+                              sim.contact_loss, schedule, sim.gyroscopic)
+        system.springs.backlash = backlash.copy()
+        return system
 
     q_static = orient_meshes(model, build(), v0)
     system = build()
@@ -173,6 +177,19 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
                     mesh_period(system, [v0]))
     q0 = q_static if sim.initial_state == "static" else np.zeros(model.n)
     return Prepared(model, system, q0, v0, t_end, sim)
+
+
+def mesh_backlash(cfg: object, model: CoreModel) -> np.ndarray:
+    """Backlash (m) of every mesh of ``model``: ``backlash_m`` of its ``[[dynamics.meshes]]``
+    entry (pair name, then ``<stage>.sun|ring``, then the stage name), 0 without one. The
+    contact law is :func:`geardyn.solve.integrate._contact` on the oriented deflection
+    (:func:`orient_meshes`: δ > 0 on the flank loaded by the initial drives)."""
+    from geardyn.models.core.graph import _pair_size
+
+    spec: Dynamics = cfg.dynamics  # type: ignore[attr-defined]
+    graph = {m.name: m for m in cfg.graph().meshes}  # type: ignore[attr-defined]
+    return np.array([_pair_size(graph[m.name], spec).settings.backlash_m
+                     if m.name in graph else 0.0 for m in model.meshes], float)
 
 
 def orient_meshes(model: CoreModel, system: LinearSystem, v0: np.ndarray) -> np.ndarray:

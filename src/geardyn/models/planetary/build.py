@@ -503,6 +503,7 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
                             (sim.rayleigh_alpha, sim.rayleigh_beta), sim.support_damping,
                             cdamp, sim.contact_loss, ring_phase, mass_sched,
                             sim.modal_damping_ratio, sim.gyroscopic)
+    sys.springs.backlash = mesh_backlash(pd, model, idx)
     q0 = np.zeros(n)
     v0 = rigid_velocity(model, sim.initial_speed_rpm)
     # planet pin errors: offsets on the tangential planet-bearing springs, as a force
@@ -515,6 +516,19 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
                 j = [k for k, s in enumerate(model.springs) if s.name == name][0]
                 sys.force[:, :] -= model.springs[j].k * (-e) * a[j]
     return Prepared(model, sys, idx, q0, v0, t_end)
+
+
+def mesh_backlash(pd: PlanetaryDynamics, model: PlanetaryModel, idx: list[int]) -> np.ndarray:
+    """Backlash (m) of each variable spring ``idx`` (model spring indices): the
+    ``backlash_m`` of its stage's ``sun_mesh`` or ``ring_mesh`` (the contact law of
+    :func:`geardyn.solve.integrate._contact`)."""
+    stages = {sd.stage: sd for sd in pd.stages}
+    out = []
+    for i in idx:
+        s = model.springs[i]
+        sd = stages[s.stage]
+        out.append((sd.sun_mesh if s.kind == "mesh_sun" else sd.ring_mesh).backlash_m)
+    return np.array(out, float)
 
 
 def _held(points: object, t_end: float, field: str, unit: str) -> tuple[np.ndarray, np.ndarray]:
