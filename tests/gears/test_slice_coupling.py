@@ -234,6 +234,10 @@ def test_config_fields_reach_the_geometry_and_errors_name_the_field() -> None:
     cfg = parse_config(_cfg(slice_coupling=True, slice_coupling_length_ratio=0.6))
     g = pair_model(cfg, "low").geometry
     assert g.slice_coupling and g.slice_coupling_ratio == 0.6
+    t = mesh_stiffness(g, n_per_cycle=8)
+    assert t.slice_coupling and t.to_xarray().attrs["slice_coupling"] == 1
+    assert mesh_stiffness(g, n_per_cycle=8, slice_coupling=False).to_xarray().attrs[
+        "slice_coupling"] == 0
     assert not pair_model(parse_config(_cfg()), "low").geometry.slice_coupling
     with pytest.raises(ConfigError, match="slice_coupling_length_ratio is set but slice_coupling"):
         parse_config(_cfg(slice_coupling_length_ratio=0.6))

@@ -237,6 +237,8 @@ class StiffnessTable:
     contact: np.ndarray
     faults: tuple = field(default_factory=tuple)
     n_per_cycle: int = 0
+    slice_coupling: bool = False
+    """True when the slices of each tooth were coupled along the face (:mod:`.slice_coupling`)."""
 
     @property
     def total(self) -> np.ndarray:
@@ -443,6 +445,7 @@ def mesh_stiffness(
         contact=cu,
         faults=faults,
         n_per_cycle=n_per_cycle,
+        slice_coupling=coupled,
     )
 
 

@@ -38,6 +38,7 @@ def table_to_dataset(t: StiffnessTable) -> xr.Dataset:
             "overlap_ratio": g.overlap_ratio,
             "base_radius_a_m": g.base_radius[0],
             "faults": "; ".join(repr(f) for f in t.faults),
+            "slice_coupling": int(t.slice_coupling),
         },
     )
     return ds
