@@ -9,7 +9,11 @@ shaft lines) registers its bodies or nodes here and stamps its linear elements:
   deflection row ``a`` (δ = aᵀq; supports, torsional shafts, planet bearings, meshes at their
   mean stiffness; seed 003 notes §2.3);
 * :meth:`Assembly.add_block` — an element matrix stamped on a list of DOFs (Timoshenko shaft
-  elements, discs: ``K_e``, ``M_e``, ``G_e``, ``C_e``).
+  elements, discs: ``K_e``, ``M_e``, ``G_e``, ``C_e``);
+* :meth:`Assembly.add_frame` — a rotating frame turning at Ω = r·q̇ (a planetary carrier):
+  the blocks stamped with ``frame=`` carry its gyroscopic ``G`` and centripetal ``K_omega``
+  matrices, the Ω G q̇ − Ω² K_Ω q terms of the bodies described in that frame (seed 003
+  eq 3.1, eqs 3.4-3.8).
 
 Connecting elements with state (time-varying meshes, nonlinear bearings) and drives are not
 linear: the builders hand them to the integrators in ``geardyn.solve`` with the matrices
@@ -27,7 +31,7 @@ import scipy.sparse as sp
 
 from geardyn.errors import ConfigError
 
-MATRICES = ("K", "M", "C", "G")
+MATRICES = ("K", "M", "C", "G", "K_omega")
 
 
 @dataclass
@@ -43,12 +47,15 @@ class RankOne:
 
 @dataclass
 class Block:
-    """Element matrices (``K``, ``M``, ``C``, ``G``; d × d or None) on the DOFs ``dofs``."""
+    """Element matrices (``K``, ``M``, ``C``, ``G``, ``K_omega``; d × d or None) on the DOFs
+    ``dofs``; ``frame``: the rotating frame whose rate multiplies ``G`` (and Ω² ``K_omega``),
+    "" for none."""
 
     name: str
     kind: str
     dofs: np.ndarray
     mats: dict[str, np.ndarray] = field(default_factory=dict)
+    frame: str = ""
 
 
 @dataclass
@@ -59,6 +66,7 @@ class Assembly:
     point_mass: list[float] = field(default_factory=list)
     rank_one: list[RankOne] = field(default_factory=list)
     blocks: list[Block] = field(default_factory=list)
+    frames: dict[str, np.ndarray] = field(default_factory=dict)
     _index: dict[str, int] = field(default_factory=dict, repr=False)
 
     # ---- DOFs ---------------------------------------------------------------------------
@@ -110,9 +118,21 @@ class Assembly:
         self.rank_one.append(element)
         return element
 
+    def add_frame(self, name: str, rate: np.ndarray) -> None:
+        """Register a rotating frame turning at Ω = rate·q̇ (rad/s; ``rate`` of length n)."""
+        if name in self.frames:
+            raise ConfigError(f"rotating frame '{name}' is defined twice")
+        rate = np.asarray(rate, float)
+        if rate.shape != (self.n,):
+            raise ValueError(f"frame '{name}': rate row of length {rate.shape} for {self.n} DOFs")
+        self.frames[name] = rate
+
     def add_block(self, name: str, kind: str, dofs: Iterable[int | str],
-                  **mats: np.ndarray | None) -> Block:
-        """Stamp element matrices (keywords among K, M, C, G) on ``dofs``."""
+                  frame: str = "", **mats: np.ndarray | None) -> Block:
+        """Stamp element matrices (keywords among K, M, C, G, K_omega) on ``dofs``; ``frame``:
+        a frame of :meth:`add_frame` that the block's G and K_omega turn with."""
+        if frame and frame not in self.frames:
+            raise ValueError(f"element '{name}': unknown rotating frame '{frame}'")
         idx = np.array([self.dof(d) if isinstance(d, str) else int(d) for d in dofs], np.int64)
         given = {}
         for key, m in mats.items():
@@ -124,9 +144,23 @@ class Assembly:
             if m.shape != (idx.size, idx.size):
                 raise ValueError(f"element '{name}': {key} is {m.shape} for {idx.size} DOFs")
             given[key] = m
-        block = Block(name, kind, idx, given)
+        block = Block(name, kind, idx, given, frame)
         self.blocks.append(block)
         return block
+
+    def add_mapped(self, name: str, kind: str, d: np.ndarray, frame: str = "",
+                   **mats: np.ndarray | None) -> Block:
+        """Stamp Dᵀ X D for element matrices X (r × r, keywords as :meth:`add_block`) given in
+        the element's own coordinates y = D q (``d``: r × n), on the DOFs where D is non-zero
+        (a body's kinetic energy ½ ẏᵀ M_e ẏ, its rotating-frame terms)."""
+        d = np.atleast_2d(np.asarray(d, float))
+        if d.shape[1] != self.n:
+            raise ValueError(f"element '{name}': map of {d.shape[1]} columns for {self.n} DOFs")
+        cols = np.flatnonzero(np.abs(d).max(axis=0) > 0.0)
+        dc = d[:, cols]
+        return self.add_block(name, kind, cols, frame=frame,
+                              **{k: None if x is None else dc.T @ np.asarray(x, float) @ dc
+                                 for k, x in mats.items()})
 
     # ---- matrices -----------------------------------------------------------------------
     def _rank_one_sum(self, attr: str, kinds: Sequence[str] | None) -> np.ndarray:
@@ -137,12 +171,15 @@ class Assembly:
                 out += w * np.outer(e.a, e.a)
         return out
 
-    def _block_sum(self, key: str, kinds: Sequence[str] | None, sparse: bool
-                   ) -> np.ndarray | sp.csr_matrix:
+    def block_matrix(self, key: str, kinds: Sequence[str] | None = None, sparse: bool = False,
+                     frame: str | None = None) -> np.ndarray | sp.csr_matrix:
+        """Σ of the blocks' ``key`` matrices over ``kinds`` (all if None) and ``frame``
+        (any if None), without rank-one elements or point masses."""
         rows, cols, vals = [], [], []
         for b in self.blocks:
             m = b.mats.get(key)
-            if m is None or (kinds is not None and b.kind not in kinds):
+            if m is None or (kinds is not None and b.kind not in kinds) or (
+                    frame is not None and b.frame != frame):
                 continue
             rows.append(np.repeat(b.dofs, b.dofs.size))
             cols.append(np.tile(b.dofs, b.dofs.size))
@@ -153,17 +190,19 @@ class Assembly:
                             shape=(self.n, self.n))
         return coo.tocsr() if sparse else coo.toarray()
 
-    def matrix(self, key: str, kinds: Sequence[str] | None = None, sparse: bool = False
-               ) -> np.ndarray | sp.csr_matrix:
-        """Assembled ``K``, ``M``, ``C`` or ``G`` over the elements of ``kinds`` (all if None):
-        K = Σ k a aᵀ + Σ K_e, C = Σ c a aᵀ + Σ C_e, M = diag(point masses) + Σ M_e, G = Σ G_e."""
+    def matrix(self, key: str, kinds: Sequence[str] | None = None, sparse: bool = False,
+               frame: str | None = None) -> np.ndarray | sp.csr_matrix:
+        """Assembled ``K``, ``M``, ``C``, ``G`` or ``K_omega`` over the elements of ``kinds``
+        (all if None): K = Σ k a aᵀ + Σ K_e, C = Σ c a aᵀ + Σ C_e, M = diag(point masses) +
+        Σ M_e, G = Σ G_e, K_Ω = Σ K_Ω,e. ``frame``: only the blocks of that rotating frame
+        (no rank-one elements, no point masses)."""
         if key not in MATRICES:
             raise ValueError(f"unknown matrix '{key}' (one of {MATRICES})")
-        out = self._block_sum(key, kinds, sparse)
+        out = self.block_matrix(key, kinds, sparse, frame)
         extra = None
-        if key == "M" and kinds is None:
+        if key == "M" and kinds is None and frame is None:
             extra = np.diag(np.asarray(self.point_mass, float))
-        elif key in ("K", "C") and self.rank_one:
+        elif key in ("K", "C") and self.rank_one and frame is None:
             extra = self._rank_one_sum("k" if key == "K" else "c", kinds)
         if extra is None:
             return out
@@ -173,3 +212,9 @@ class Assembly:
         """Deflection rows of the rank-one elements of ``kinds`` (elements × n)."""
         sel = [e.a for e in self.rank_one if kinds is None or e.kind in kinds]
         return np.array(sel).reshape(len(sel), self.n)
+
+    def frame_terms(self) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]:
+        """(name, rate row r, G, K_Ω) of every rotating frame (dense): the Ω G q̇ − Ω² K_Ω q
+        terms at Ω = r·q̇ (seed 003 eq 3.1)."""
+        return [(name, rate, self.matrix("G", frame=name), self.matrix("K_omega", frame=name))
+                for name, rate in self.frames.items()]

@@ -19,17 +19,11 @@ import xarray as xr
 
 from geardyn.errors import InputError
 from geardyn.gears import planet_mesh_phases
+from geardyn.models.core.system import linear_system
 from geardyn.models.planetary.model import PlanetaryModel
 from geardyn.results import finish, shaft_variables
 from geardyn.solve.control import RunControl
-from geardyn.solve.integrate import (
-    Drives,
-    IntegrationResult,
-    LinearSystem,
-    MassSchedule,
-    VarSprings,
-    newmark,
-)
+from geardyn.solve.integrate import IntegrationResult, LinearSystem, MassSchedule, newmark
 
 
 @dataclass
@@ -129,52 +123,14 @@ def build_system(
     modal damping ratio ζ on every elastic mode of the mean-stiffness model:
     C += M Φ diag(2ζω_i) Φᵀ M with mass-normalised Φ (seed 003 eq 1.16, c_i = 2 m_i ω_i ζ_i).
     ``gyroscopic``: add Ω_c G q̇ − Ω_c² K_Ω q per stage with Ω_c its current carrier speed
-    (seed 003 eq 3.1).
+    (seed 003 eq 3.1). Built by :func:`geardyn.models.core.system.linear_system` on the
+    model's assembly.
     """
-    laws = laws or {}
-    rows, idx = spring_rows(model, laws, mesh_damping, contact_loss, ring_phase)
-    a = model.spring_vectors()
-    kk = np.zeros((len(model.names),) * 2)
-    for i, s in enumerate(model.springs):
-        if i not in idx:
-            kk += s.k * np.outer(a[i], a[i])
-    mm = model.mass_matrix()
-    cc = rayleigh[0] * mm + rayleigh[1] * model.stiffness_matrix()
-    if modal_damping > 0:
-        import scipy.linalg as sla
-
-        w2, phi = sla.eigh(model.stiffness_matrix(), mm)
-        w = np.sqrt(np.clip(w2, 0.0, None))
-        w[w < 2 * np.pi * 1e-2] = 0.0  # rigid-body modes stay undamped
-        mp = mm @ phi
-        cc += mp @ np.diag(2 * modal_damping * w) @ mp.T
-    for name, c in (support_damping or {}).items():
-        j = model.dof(name)
-        cc[j, j] += c
-    n = len(model.names)
-    sys = LinearSystem(
-        mm, cc, kk, VarSprings.build(rows, n), Drives.build(drives or []),
-        np.zeros(0) if force_t is None else np.asarray(force_t, float),
-        np.zeros((0, n)) if force is None else np.asarray(force, float),
-        mass_schedule or MassSchedule(), model.names,
-    )
-    if gyroscopic and model.gyro is not None:
-        t = model.transform
-        gs, ks, rs = [], [], []
-        for info in model.stages.values():
-            dofs = [d for b in model.bodies.values() if b.stage == info.name and b.kind != "rotor"
-                    for d in b.dofs]
-            mask = np.zeros(model.n_full)
-            mask[dofs] = 1.0
-            sel = np.outer(mask, mask)
-            gs.append(t.T @ (model.gyro * sel) @ t)
-            ks.append(t.T @ (model.k_omega * sel) @ t)  # type: ignore[operator]
-            rs.append(model.rotation_vector(info.bodies["carrier"]))
-        sys.gyro_g, sys.gyro_k, sys.gyro_rate = np.array(gs), np.array(ks), np.array(rs)
-    else:
-        sys.gyro_g = np.zeros((0, n, n))
-        sys.gyro_k = np.zeros((0, n, n))
-        sys.gyro_rate = np.zeros((0, n))
+    rows, idx = spring_rows(model, laws or {}, mesh_damping, contact_loss, ring_phase)
+    sys = linear_system(model.assembly, rows, idx, transform=model.T, names=model.names,
+                        rayleigh=rayleigh, modal_damping=modal_damping,
+                        support_damping=support_damping, drives=drives, force_t=force_t,
+                        force=force, mass_schedule=mass_schedule, gyroscopic=gyroscopic)
     return sys, idx
 
 

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from geardyn.errors import ConfigError
+from geardyn.models.core.assembly import Assembly, RankOne
 
 CENTRAL = ("carrier", "ring", "sun")  # block order of seed 003 eq 3.26 / Table 3.4
 
@@ -53,13 +54,11 @@ class Body:
 
 
 @dataclass
-class Spring:
-    """Rank-one spring: force −k δ a with δ = aᵀ q (N/m along its deflection)."""
+class Spring(RankOne):
+    """Rank-one spring of the assembly (force −k δ a, δ = aᵀ q, N/m along its deflection) with
+    its planetary labels. ``kind``: bearing | support_u | planet_bearing | mesh_sun |
+    mesh_ring | shaft."""
 
-    name: str
-    kind: str  # bearing | support_u | planet_bearing | mesh_sun | mesh_ring | shaft
-    k: float
-    a: np.ndarray
     stage: str = ""
     body: str = ""
     planet: int = 0  # 1-based planet index for meshes and planet bearings
@@ -86,21 +85,44 @@ class StageInfo:
 
 @dataclass
 class PlanetaryModel:
-    """Assembled model: bodies, DOF names, mass matrix and spring list (full coordinates).
+    """Assembled model: bodies and stages over the shared :class:`Assembly` (full coordinates:
+    DOF names, diagonal masses, the springs as rank-one elements, G and K_Ω as blocks of one
+    rotating frame per stage).
 
     ``T`` maps reduced to full coordinates (identity for the coupled model); use the
     ``reduced_*`` accessors for the matrices actually solved.
     """
 
     bodies: dict[str, Body]
-    dof_names: list[str]
-    mass_diag: np.ndarray
-    springs: list[Spring]
     stages: dict[str, StageInfo]
+    assembly: Assembly
     reduction: str = "none"
     T: np.ndarray | None = None
-    gyro: np.ndarray | None = None  # G (full coords), seed 003 eq 3.4-3.5
-    k_omega: np.ndarray | None = None  # centripetal K_Ω (full coords), eq 3.6-3.8 corrected
+
+    # ---- the assembly's contents (full coordinates) -----------------------------------
+    @property
+    def dof_names(self) -> list[str]:
+        return self.assembly.names
+
+    @property
+    def mass_diag(self) -> np.ndarray:
+        """Diagonal masses (kg; m = J/r² on the u DOFs)."""
+        return np.asarray(self.assembly.point_mass, float)
+
+    @property
+    def springs(self) -> list[Spring]:
+        """The rank-one springs, in assembly order."""
+        return self.assembly.rank_one  # type: ignore[return-value]
+
+    @property
+    def gyro(self) -> np.ndarray:
+        """G (full coords) of all stages, seed 003 eqs 3.4-3.5."""
+        return self.assembly.matrix("G")  # type: ignore[return-value]
+
+    @property
+    def k_omega(self) -> np.ndarray:
+        """Centripetal K_Ω (full coords) of all stages, eqs 3.6-3.8 corrected."""
+        return self.assembly.matrix("K_omega")  # type: ignore[return-value]
 
     # ---- matrices -------------------------------------------------------------------
     @property
@@ -126,15 +148,11 @@ class PlanetaryModel:
 
     def mass_matrix(self) -> np.ndarray:
         t = self.transform
-        return t.T @ np.diag(self.mass_diag) @ t
+        return t.T @ self.assembly.matrix("M") @ t
 
     def stiffness_matrix(self, kinds: tuple[str, ...] | None = None) -> np.ndarray:
-        k = np.zeros((self.n_full, self.n_full))
-        for s in self.springs:
-            if kinds is None or s.kind in kinds:
-                k += s.k * np.outer(s.a, s.a)
         t = self.transform
-        return t.T @ k @ t
+        return t.T @ self.assembly.matrix("K", kinds) @ t
 
     def spring_vectors(self) -> np.ndarray:
         """Deflection vectors in solved coordinates, one row per spring."""
@@ -143,13 +161,11 @@ class PlanetaryModel:
 
     def gyroscopic_matrix(self) -> np.ndarray:
         t = self.transform
-        g = self.gyro if self.gyro is not None else np.zeros((self.n_full, self.n_full))
-        return t.T @ g @ t
+        return t.T @ self.gyro @ t
 
     def centripetal_matrix(self) -> np.ndarray:
         t = self.transform
-        k = self.k_omega if self.k_omega is not None else np.zeros((self.n_full, self.n_full))
-        return t.T @ k @ t
+        return t.T @ self.k_omega @ t
 
     def dof(self, name: str) -> int:
         """Index of a solved DOF by name (e.g. ``sun.u`` or ``test.sun.u``)."""
@@ -169,16 +185,6 @@ class PlanetaryModel:
         v = np.zeros(self.n_full)
         v[b.dofs[-1]] = 1.0 / b.radius
         return v @ self.transform
-
-
-# ---- assembly helpers ---------------------------------------------------------------------
-
-
-def _vec(n: int, entries: dict[int, float]) -> np.ndarray:
-    a = np.zeros(n)
-    for i, c in entries.items():
-        a[i] += c
-    return a
 
 
 @dataclass
@@ -234,20 +240,24 @@ def assemble(
     rotors: list[RotorSpec] | None = None,
     reduction: str = "none",
 ) -> PlanetaryModel:
-    """Assemble the model (seed 003 eqs 3.2-3.26; notes §2.3 rank-one form)."""
+    """Assemble the model on the shared :class:`Assembly` (seed 003 eqs 3.2-3.26; notes §2.3
+    rank-one form): each body's DOFs with their masses, each spring a rank-one element, and per
+    stage a rotating frame (the carrier's) with the G and K_Ω blocks of its members."""
     shafts = shafts or []
     rotors = rotors or []
+    asm = Assembly()
     bodies: dict[str, Body] = {}
-    names: list[str] = []
-    mass: list[float] = []
 
     def add_body(b: Body, dof_labels: tuple[str, ...], dof_mass: list[float]) -> None:
         if b.name in bodies:
             raise ConfigError(f"body name '{b.name}' is used twice")
-        b.dofs = list(range(len(names), len(names) + len(dof_labels)))
-        names.extend(f"{b.name}.{d}" for d in dof_labels)
-        mass.extend(dof_mass)
+        b.dofs = asm.add_dofs(b.name, dof_labels, dof_mass)
         bodies[b.name] = b
+
+    def spring(name: str, kind: str, k: float, entries: dict[int, float], stage: str,
+               body: str, planet: int = 0, label: str = "") -> None:
+        asm.add_rank_one(Spring(name, kind, k, asm.row(entries), stage=stage, body=body,
+                                planet=planet, bin=label))
 
     infos: dict[str, StageInfo] = {}
     for st in stages:
@@ -282,10 +292,6 @@ def assemble(
     for r in rotors:
         add_body(Body(r.name, "rotor", r.inertia, r.inertia, 1.0), ("theta",), [r.inertia])
 
-    n = len(names)
-    springs: list[Spring] = []
-    gyro = np.zeros((n, n))
-    k_om = np.zeros((n, n))
     for st in stages:
         info = infos[st.name]
         c, rg, s = (bodies[info.bodies[r]] for r in CENTRAL)
@@ -293,65 +299,53 @@ def assemble(
             p = getattr(st, role)
             kb = p.get("bearing", 0.0)
             for j, d in enumerate(("x", "y")):
-                springs.append(
-                    Spring(f"{b.name}.bearing.{d}", "bearing", kb, _vec(n, {b.dofs[j]: 1.0}),
-                           st.name, b.name, bin=f"bearing of {b.name} ({d})")
-                )
+                spring(f"{b.name}.bearing.{d}", "bearing", kb, {b.dofs[j]: 1.0}, st.name,
+                       b.name, label=f"bearing of {b.name} ({d})")
             kt = p.get("torsional", 0.0)
-            springs.append(
-                Spring(f"{b.name}.bearing.u", "support_u", kt / b.radius**2,
-                       _vec(n, {b.dofs[2]: 1.0}), st.name, b.name,
-                       bin=f"bearing of {b.name} (rotation)")
-            )
-        for i in range(st.n_planets):
-            pb = bodies[info.bodies[f"planet{i + 1}"]]
-            psi = st.planet_angles[i]
+            spring(f"{b.name}.bearing.u", "support_u", kt / b.radius**2, {b.dofs[2]: 1.0},
+                   st.name, b.name, label=f"bearing of {b.name} (rotation)")
+        planets = [bodies[info.bodies[f"planet{i + 1}"]] for i in range(st.n_planets)]
+        xc, yc, uc = c.dofs
+        for i, pb in enumerate(planets):
+            zc, ze, _up = pb.dofs
+            cp, sp = math.cos(st.planet_angles[i]), math.sin(st.planet_angles[i])
+            spring(f"{pb.name}.bearing.zeta", "planet_bearing", st.planet_bearing,
+                   {xc: cp, yc: sp, zc: -1.0}, st.name, pb.name, i + 1,
+                   f"bearing of {pb.name} (radial)")
+            spring(f"{pb.name}.bearing.eta", "planet_bearing", st.planet_bearing,
+                   {xc: -sp, yc: cp, uc: 1.0, ze: -1.0}, st.name, pb.name, i + 1,
+                   f"bearing of {pb.name} (tangential)")
+        for i, pb in enumerate(planets):
             zc, ze, up = pb.dofs
-            xc, yc, uc = c.dofs
-            cp, sp = math.cos(psi), math.sin(psi)
-            springs.append(Spring(
-                f"{pb.name}.bearing.zeta", "planet_bearing", st.planet_bearing,
-                _vec(n, {xc: cp, yc: sp, zc: -1.0}), st.name, pb.name, i + 1,
-                f"bearing of {pb.name} (radial)"))
-            springs.append(Spring(
-                f"{pb.name}.bearing.eta", "planet_bearing", st.planet_bearing,
-                _vec(n, {xc: -sp, yc: cp, uc: 1.0, ze: -1.0}), st.name, pb.name, i + 1,
-                f"bearing of {pb.name} (tangential)"))
-        for i in range(st.n_planets):
-            pb = bodies[info.bodies[f"planet{i + 1}"]]
-            psi = st.planet_angles[i]
+            ps = st.planet_angles[i] - st.alpha_s
+            spring(f"{pb.name}.mesh_sun", "mesh_sun", st.k_sun_mesh,
+                   {s.dofs[0]: -math.sin(ps), s.dofs[1]: math.cos(ps), s.dofs[2]: 1.0,
+                    zc: -math.sin(st.alpha_s), ze: -math.cos(st.alpha_s), up: 1.0},
+                   st.name, pb.name, i + 1, f"mesh {s.name}-{pb.name}")
+        for i, pb in enumerate(planets):
             zc, ze, up = pb.dofs
-            ps = psi - st.alpha_s
-            a = _vec(n, {s.dofs[0]: -math.sin(ps), s.dofs[1]: math.cos(ps), s.dofs[2]: 1.0,
-                         zc: -math.sin(st.alpha_s), ze: -math.cos(st.alpha_s), up: 1.0})
-            springs.append(Spring(f"{pb.name}.mesh_sun", "mesh_sun", st.k_sun_mesh, a,
-                                  st.name, pb.name, i + 1, f"mesh {s.name}-{pb.name}"))
-        for i in range(st.n_planets):
-            pb = bodies[info.bodies[f"planet{i + 1}"]]
-            psi = st.planet_angles[i]
-            zc, ze, up = pb.dofs
-            pr = psi + st.alpha_r
-            a = _vec(n, {rg.dofs[0]: -math.sin(pr), rg.dofs[1]: math.cos(pr), rg.dofs[2]: 1.0,
-                         zc: math.sin(st.alpha_r), ze: -math.cos(st.alpha_r), up: -1.0})
-            springs.append(Spring(f"{pb.name}.mesh_ring", "mesh_ring", st.k_ring_mesh, a,
-                                  st.name, pb.name, i + 1, f"mesh {rg.name}-{pb.name}"))
-        for b in [c, rg, s] + [bodies[info.bodies[f"planet{i + 1}"]] for i in range(st.n_planets)]:
-            i0, i1 = b.dofs[0], b.dofs[1]
-            gyro[i0, i1] -= 2 * b.mass
-            gyro[i1, i0] += 2 * b.mass
-            k_om[i0, i0] += b.mass
-            k_om[i1, i1] += b.mass
+            pr = st.planet_angles[i] + st.alpha_r
+            spring(f"{pb.name}.mesh_ring", "mesh_ring", st.k_ring_mesh,
+                   {rg.dofs[0]: -math.sin(pr), rg.dofs[1]: math.cos(pr), rg.dofs[2]: 1.0,
+                    zc: math.sin(st.alpha_r), ze: -math.cos(st.alpha_r), up: -1.0},
+                   st.name, pb.name, i + 1, f"mesh {rg.name}-{pb.name}")
+        # the stage's members are described in the carrier frame (Ω = θ̇_c = u̇_c / r_c)
+        asm.add_frame(st.name, asm.row({uc: 1.0 / c.radius}))
+        skew = np.array([[0.0, -2.0], [2.0, 0.0]])
+        for b in [c, rg, s, *planets]:
+            asm.add_block(f"{b.name}.frame", "rotating_frame", b.dofs[:2], frame=st.name,
+                          G=b.mass * skew, K_omega=b.mass * np.eye(2))
     for r in rotors:
         b = bodies[r.name]
-        springs.append(Spring(f"{r.name}.support", "support_u", r.support,
-                              _vec(n, {b.dofs[0]: 1.0}), "", r.name, bin=f"support of {r.name}"))
+        spring(f"{r.name}.support", "support_u", r.support, {b.dofs[0]: 1.0}, "", r.name,
+               label=f"support of {r.name}")
     for sh in shafts:
         ba = _lookup(bodies, sh.a, f"shaft '{sh.name}'.a")
         bb = _lookup(bodies, sh.b, f"shaft '{sh.name}'.b")
         if sh.torsional:
-            a = _vec(n, {ba.dofs[-1]: 1.0 / ba.radius, bb.dofs[-1]: -1.0 / bb.radius})
-            springs.append(Spring(f"{sh.name}.torsion", "shaft", sh.torsional, a, "", sh.name,
-                                  bin=f"shaft {sh.name} (torsion)"))
+            spring(f"{sh.name}.torsion", "shaft", sh.torsional,
+                   {ba.dofs[-1]: 1.0 / ba.radius, bb.dofs[-1]: -1.0 / bb.radius}, "", sh.name,
+                   label=f"shaft {sh.name} (torsion)")
         if sh.flexural:
             if ba.kind != "central" or bb.kind != "central":
                 raise ConfigError(
@@ -360,11 +354,10 @@ def assemble(
                     f"'{bb.name}' ({bb.kind})"
                 )
             for j, d in enumerate(("x", "y")):
-                a = _vec(n, {ba.dofs[j]: 1.0, bb.dofs[j]: -1.0})
-                springs.append(Spring(f"{sh.name}.flex.{d}", "shaft", sh.flexural, a, "",
-                                      sh.name, bin=f"shaft {sh.name} ({d})"))
-    model = PlanetaryModel(bodies, names, np.asarray(mass), springs, infos, reduction,
-                           None, gyro, k_om)
+                spring(f"{sh.name}.flex.{d}", "shaft", sh.flexural,
+                       {ba.dofs[j]: 1.0, bb.dofs[j]: -1.0}, "", sh.name,
+                       label=f"shaft {sh.name} ({d})")
+    model = PlanetaryModel(bodies, infos, asm, reduction)
     if reduction != "none":
         model.T = reduction_matrix(model, reduction)
     return model
