@@ -165,8 +165,15 @@ def static_transmission_error(
     spalls: tuple[Spall, ...] = (),
     extended: bool = True,
     grid_points: int = 201,
+    slice_coupling: bool | None = None,
 ) -> LoadedResult:
-    """Static TE and load sharing under torque ``torque_a`` (N·m on gear a), seed 002 eqs 9-13."""
+    """Static TE and load sharing under torque ``torque_a`` (N·m on gear a), seed 002 eqs 9-13.
+
+    ``slice_coupling`` (None: ``g.slice_coupling``): the structural deflections of the slices of
+    each tooth are coupled along the face (:mod:`.slice_coupling`, seed 002 §2.2 unloaded-slice
+    correction) and the slice forces solve eq 9 with that coupled compliance
+    (:func:`.slice_coupling.coupled_contact_forces`); off, each slice inverts eq 9 alone.
+    """
     if not (math.isfinite(torque_a) and torque_a > 0):
         raise InputError(f"torque must be > 0 N·m (got {torque_a})")
     if n_per_cycle < 1 or n_cycles <= 0 or (n_slices is not None and n_slices < 1):
@@ -209,8 +216,22 @@ def static_transmission_error(
         cov = sp.covers(rr, zk[None, None, :], g.face_width) & (tooth == sp.tooth)[:, :, None]
         gap = gap + np.where(cov, sp.depth, 0.0)
 
+    coupled = g.slice_coupling if slice_coupling is None else bool(slice_coupling)
+    if coupled:
+        from geardyn.gears.slice_coupling import CouplingGrids, coupled_contact_forces
+
+        cgrid = CouplingGrids.build(g, ugrid, g.slice_coupling_ratio)
+        comp = cgrid.compliance_matrix(u.reshape(-1, n_slices), dz)
+        rs_flat = rsum.reshape(-1, n_slices)
+
     def forces(delta: np.ndarray) -> np.ndarray:
         d = delta[:, None, None] - gap
+        if coupled:
+            fc = coupled_contact_forces(
+                np.where(np.isfinite(d), d, -np.inf).reshape(-1, n_slices), comp, dz, estar,
+                rs_flat,
+            )
+            return fc.reshape(d.shape)
         return force_from_deflection(np.where(np.isfinite(d), d, -1.0), kt, dz, estar, rsum)
 
     # bracket and bisect δ (vectorised over angles); total force is monotone in δ
