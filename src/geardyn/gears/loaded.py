@@ -16,6 +16,9 @@ angles). Tip rounds are not modelled in D (sharp tip corners); internal pairs ge
 
 Profile corrections δ_corr (seed 002 §2.5.2) are deflection reductions by contact radius:
 linear or parabolic tip relief on each gear, lead crowning along the face.
+
+With slice coupling (seed 002 §2.2 unloaded-slice correction, :mod:`.slice_coupling`) the
+structural term of eq 9 is the coupled compliance of each tooth pair's slices along the face.
 """
 
 from __future__ import annotations
