@@ -10,6 +10,8 @@ Physics modules, independent of configs and files (SI units throughout):
 - :mod:`.loaded` — static transmission error and load sharing with extended contact and
   profile corrections (seed 002 §2.5).
 - :mod:`.faults` — root crack (seed 002 eq 14) and spall (eq 13).
+- :mod:`.slice_coupling` — opt-in coupling of the face slices (seed 002 §2.2 unloaded-slice
+  correction) as a two-parameter foundation.
 - :mod:`.torsional` — seed 004 ch. 5 combined torsional mesh stiffness.
 - :mod:`.phasing` — planetary mesh phases (seed 004 Tables 4-1, 4-2).
 - :mod:`.simple` — square wave (seed 003 eqs 1.11-1.13) and ISO 6336-1 c', c_γα.
@@ -32,6 +34,7 @@ from geardyn.gears.simple import (
     square_wave,
     square_wave_mean,
 )
+from geardyn.gears.slice_coupling import with_slice_coupling
 from geardyn.gears.torsional import (
     TorsionalMeshParams,
     seed004_params,
@@ -65,4 +68,5 @@ __all__ = [
     "tooth_compliance",
     "torsional_mesh_stiffness",
     "torsional_stiffness_curve",
+    "with_slice_coupling",
 ]
