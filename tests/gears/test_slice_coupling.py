@@ -312,3 +312,30 @@ def test_loaded_contact_with_coupling() -> None:
     off0 = static_transmission_error(g, 200.0, n_cycles=2, **kw)
     assert rise[1e-4] == pytest.approx(float((off.ste / off0.ste).max()), rel=1e-6)
     assert 1.0 < rise[None] < rise[1e-4]
+
+
+def test_fe_transmission_model_takes_the_coupled_tables() -> None:
+    """`slice_coupling = true` in the example's [[gear_geometry]] entries reaches the FE model's
+    mesh tables through the pair geometry (no option in the transmission section): the helical
+    stage's table is the coupled one, the spur stage's (uniform face) is unchanged (1e-5)."""
+    import copy
+    import tomllib
+    from pathlib import Path
+
+    from geardyn.models.transmission.assembly import build_model
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "seed002_transmission.toml"
+    d = tomllib.loads(path.read_text())
+    d2 = copy.deepcopy(d)
+    for entry in d2["gear_geometry"]:
+        entry["slice_coupling"] = True
+    m0 = build_model(parse_config(d), mesh_points_per_cycle=16)
+    m1 = build_model(parse_config(d2), mesh_points_per_cycle=16)
+    for t0, t1, g in zip(m0.meshes.tables, m1.meshes.tables, m1.meshes.geometry, strict=True):
+        assert not t0.slice_coupling and t1.slice_coupling and g.slice_coupling
+        ref = mesh_stiffness(with_slice_coupling(g), n_per_cycle=16).total
+        np.testing.assert_allclose(t1.total, ref, rtol=1e-12)
+        if g.helix_angle == 0.0:
+            np.testing.assert_allclose(t1.total, t0.total, rtol=1e-5)
+        else:
+            assert t1.total.mean() > 1.1 * t0.total.mean()
