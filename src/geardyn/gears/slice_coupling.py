@@ -26,7 +26,7 @@ both w ∝ y) need nearly the same twist (G = 2(1 − ν)D/h for φ = y/h), so G
 λ²·k_bending with k_bending the PE bending stiffness of the slice (the tapered tooth instead of
 the uniform plate; :func:`vlasov_length_ratio`, the ratio λ/h is settable) while the foundation
 stiffness k is the slice's whole PE tooth stiffness (bending + shear + compression + fillet).
-As the fillet-foundation term dominates k, the effective decay length √(G/k) is 2-4 times λ.
+As the fillet-foundation term dominates k, the effective decay length √(G/k) is 2-7 times λ.
 Left out: the plate's own bending along the face (the D φ² W''² term, a third parameter),
 transverse shear of the thick plate (Mindlin) and the spreading of the fillet deformation in
 the gear body.
