@@ -41,16 +41,17 @@ from geardyn.errors import ConfigError, KinematicsError
 from geardyn.gears import planet_mesh_phases, square_wave
 from geardyn.kinematics.graph import GearMesh, MechanismGraph
 from geardyn.kinematics.willis import KinematicAnalysis, analyze_graph
+from geardyn.models.core.assembly import Assembly, RankOne
 from geardyn.models.core.blanks import Blank, contact_ratio, disc_blank, wheel_blank
 from geardyn.models.core.lateral import (
     LateralBody,
+    add_lateral_mass,
+    add_rotating_frames,
     bearing_springs,
     lateral_layout,
-    lateral_mass,
     mesh_translation,
-    rotating_frame_terms,
 )
-from geardyn.models.core.model import Body, CoreModel, MeshElement, Spring
+from geardyn.models.core.model import MESH, Body, CoreModel, MeshElement, Spring
 
 #: ISO 6336-1 mean mesh stiffness per unit face width, c_γα ≈ 20 N/(mm·µm) = 2e10 N/m².
 C_GAMMA = 2.0e10
@@ -329,47 +330,48 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
     sizes = {m.name: _pair_size(m, spec, geometry) for m in graph.meshes}
     blanks, orbit = _inertias(graph, spec, sizes, tree)
 
-    # mass matrix (module docstring)
-    mm = np.zeros((n, n))
+    # named DOFs: the links' relative rotations, the rotors, the lateral translations
+    asm = Assembly()
+    for x, _p in tree:
+        asm.add_dofs(x, ["theta"])
+    for r in rotors:
+        asm.add_dofs(r.name, ["theta"], [r.inertia_kgm2])
+    for lb in layout.values():
+        asm.add_dofs(lb.link, ["x", "y"] if lb.kind == "fixed" else ["zeta", "eta"])
+    # mass: one inertia block per link (module docstring)
     bodies: dict[str, Body] = {}
     for i, (link, p) in enumerate(tree):
         rel = np.exp(-1j * phi[link]) * pmap[idx[link]]
         b = blanks[link]
-        mm += b.inertia * np.outer(rel.real, rel.real) + b.diametral * np.outer(rel.imag, rel.imag)
+        asm.add_mapped(f"{link}.inertia", "inertia", np.array([rel.real, rel.imag]),
+                       M=np.diag([b.inertia, b.diametral]))
         if p != graph.frame and orbit.get(link, 0.0) > 0 and link not in layout:
             hp = (np.exp(-1j * phi[p]) * pmap[idx[p]]).real
-            mm += b.mass * orbit[link] ** 2 * np.outer(hp, hp)
+            asm.add_mapped(f"{link}.orbit", "inertia", hp, M=[[b.mass * orbit[link] ** 2]])
         bodies[link] = Body(link, "link", rel.real.copy(), b.inertia,
                             i if p == graph.frame else None)
     for j, r in enumerate(rotors):
         k = n_links + j
-        mm[k, k] = r.inertia_kgm2
-        h = np.zeros(n)
-        h[k] = 1.0
-        bodies[r.name] = Body(r.name, "rotor", h, r.inertia_kgm2, k)
+        bodies[r.name] = Body(r.name, "rotor", asm.row({k: 1.0}), r.inertia_kgm2, k)
 
-    springs = []
-    rotating = []
     if layout:
         rot = {x: b.rotation for x, b in bodies.items()}
         masses = {x: blanks[x].mass for x in layout}
-        mm += lateral_mass(layout, masses, orbit, rot, n)
-        rotating = rotating_frame_terms(layout, masses, orbit, rot, _coaxial_groups(graph), n)
+        add_lateral_mass(asm, layout, masses, orbit, rot)
+        add_rotating_frames(asm, layout, masses, orbit, rot, _coaxial_groups(graph))
         given = {lk.link: lk.bearing_n_per_m for lk in spec.links}
-        springs += bearing_springs(layout, given, n)
-    meshes = _meshes(graph, kin, pmap, phi, sizes, blanks, spec.mesh_damping_ratio,
-                     pe_tables or {}, layout)
+        for e in bearing_springs(layout, given, n):
+            asm.add_rank_one(e)
     for sh in spec.shafts:
         ha = bodies[sh.a].rotation
         hb = np.zeros(n) if sh.b == graph.frame else bodies[sh.b].rotation
-        springs.append(Spring(sh.name, "support" if sh.b == graph.frame else "shaft",
-                              sh.torsional_nm_per_rad, ha - hb, sh.damping_nms_per_rad))
-    names = [f"{x}.theta" for x, _ in tree] + [f"{r.name}.theta" for r in rotors]
-    for b in layout.values():
-        names += [f"{b.link}.x", f"{b.link}.y"] if b.kind == "fixed" else [
-            f"{b.link}.zeta", f"{b.link}.eta"]
-    return CoreModel(names, mm, springs, meshes, bodies, list(graph.links), pmap, graph.frame,
-                     rotating)
+        asm.add_rank_one(Spring(sh.name, "support" if sh.b == graph.frame else "shaft",
+                                sh.torsional_nm_per_rad, ha - hb, sh.damping_nms_per_rad))
+    meshes = _meshes(graph, kin, pmap, phi, sizes, blanks, spec.mesh_damping_ratio,
+                     pe_tables or {}, layout)
+    for m in meshes:
+        asm.add_rank_one(RankOne(m.name, MESH, m.k_mean, m.a.copy(), m.c))
+    return CoreModel(asm, meshes, bodies, list(graph.links), pmap, graph.frame)
 
 
 def _meshes(graph: MechanismGraph, kin: KinematicAnalysis, pmap: np.ndarray,

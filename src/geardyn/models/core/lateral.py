@@ -16,7 +16,7 @@ With ``[dynamics] lateral = true``:
   and ring–planet deflections (seed 003 notes §2.3), the torsional part being the Willis row.
 
 The members of a planetary stage are described in its carrier frame (ψ fixed), as Lin &
-Parker do: :func:`rotating_frame_terms` gives that frame's gyroscopic and centripetal matrices
+Parker do: :func:`add_rotating_frames` registers that frame's gyroscopic and centripetal matrices
 (Ω G q̇ − Ω² K_Ω q at the carrier speed Ω, seed 003 eq 3.1); a link turning in the frame that
 is not coaxial with a carrier is described in the fixed frame.
 """
@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn.kinematics.graph import GearMesh, MechanismGraph
+from geardyn.models.core.assembly import Assembly
 from geardyn.models.core.model import Spring
 
 
@@ -93,40 +94,36 @@ def body_map(b: LateralBody, layout: Mapping[str, LateralBody], orbit: Mapping[s
     return d
 
 
-def lateral_mass(layout: Mapping[str, LateralBody], mass: Mapping[str, float],
-                 orbit: Mapping[str, float], rotation: Mapping[str, np.ndarray], n: int
-                 ) -> np.ndarray:
-    """Translational kinetic energy ½ q̇ᵀ M q̇ of every link with lateral DOFs."""
-    mm = np.zeros((n, n))
+def add_lateral_mass(asm: Assembly, layout: Mapping[str, LateralBody],
+                     mass: Mapping[str, float], orbit: Mapping[str, float],
+                     rotation: Mapping[str, np.ndarray]) -> None:
+    """Translational kinetic energy ½ m |D q̇|² of every link with lateral DOFs, stamped as
+    mass blocks Dᵀ (m I) D (D: :func:`body_map`)."""
     for b in layout.values():
-        d = body_map(b, layout, orbit, rotation, n)
-        mm += mass[b.link] * d.T @ d
-    return mm
+        d = body_map(b, layout, orbit, rotation, asm.n)
+        asm.add_mapped(f"{b.link}.translation", "inertia", d, M=mass[b.link] * np.eye(2))
 
 
-def rotating_frame_terms(layout: Mapping[str, LateralBody], mass: Mapping[str, float],
-                         orbit: Mapping[str, float], rotation: Mapping[str, np.ndarray],
-                         coaxial: Mapping[str, set[str]], n: int
-                         ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """(rate row r, G, K_Ω) of every carrier with planets: Ω = r·q̇ and, for the carrier, its
-    coaxial central members and its planets (the stage, in the carrier frame),
-    G = Σ m Dᵀ [[0, −2], [2, 0]] D and K_Ω = Σ m Dᵀ D (seed 003 eqs 3.4-3.8; Lin & Parker
-    1999), D the body's translation map (:func:`body_map`)."""
-    out = []
+def add_rotating_frames(asm: Assembly, layout: Mapping[str, LateralBody],
+                        mass: Mapping[str, float], orbit: Mapping[str, float],
+                        rotation: Mapping[str, np.ndarray], coaxial: Mapping[str, set[str]]
+                        ) -> None:
+    """One rotating frame per carrier with planets, turning at Ω = r·q̇ (r: the carrier's
+    rotation row), holding the carrier, its coaxial central members and its planets (the stage,
+    in the carrier frame): G = Σ m Dᵀ [[0, −2], [2, 0]] D and K_Ω = Σ m Dᵀ D (seed 003 eqs
+    3.4-3.8; Lin & Parker 1999), D the body's translation map (:func:`body_map`)."""
     skew = np.array([[0.0, -2.0], [2.0, 0.0]])
-    carriers = sorted({b.carrier for b in layout.values() if b.kind == "planet"})
+    carriers = sorted({b.carrier or "" for b in layout.values() if b.kind == "planet"})
     for c in carriers:
         members = [b for b in layout.values()
                    if (b.kind == "planet" and b.carrier == c)
-                   or (b.kind == "fixed" and b.link in coaxial.get(c or "", set()))]
-        g = np.zeros((n, n))
-        k = np.zeros((n, n))
+                   or (b.kind == "fixed" and b.link in coaxial.get(c, set()))]
+        asm.add_frame(c, rotation[c].copy())
         for b in members:
-            d = body_map(b, layout, orbit, rotation, n)
-            g += mass[b.link] * d.T @ skew @ d
-            k += mass[b.link] * d.T @ d
-        out.append((rotation[c or ""].copy(), g, k))
-    return out
+            d = body_map(b, layout, orbit, rotation, asm.n)
+            m = mass[b.link]
+            asm.add_mapped(f"{b.link}.frame", "rotating_frame", d, frame=c, G=m * skew,
+                           K_omega=m * np.eye(2))
 
 
 def bearing_springs(layout: Mapping[str, LateralBody], stiffness: Mapping[str, float], n: int

@@ -1,17 +1,20 @@
-"""Assembly core: bodies with named DOFs, linear elements and mesh elements (SI units).
+"""The general mechanism model on the shared assembly (SI units).
 
-A :class:`CoreModel` holds
+A :class:`CoreModel` holds, in its :class:`~geardyn.models.core.assembly.Assembly`,
 
 * the generalised coordinates ``q`` (rad): one per moving mechanism link — its rotation
   relative to the link it turns in (its *parent* in the tree of turning pairs, the frame for a
   shaft in the housing) — and one per extra rotor (motor, bucket wheel);
-* the constant mass matrix ``M`` (kinetic energy ½ q̇ᵀ M q̇);
+* the constant mass matrix ``M`` (kinetic energy ½ q̇ᵀ M q̇, one inertia block per body);
 * linear rank-one elements (:class:`Spring`: torsional shafts and supports, k a aᵀ);
-* mesh elements (:class:`MeshElement`): rank-one springs along the line of action whose
-  deflection δ = aᵀq + e(X) is the Willis row of the gear pair relative to its carrier, scaled
-  by the base radii (seed 000 eq 1-2: for a rigid-body motion δ = 0, so the rigid-body modes
-  are the kinematic nullspace, eq 5); stiffness k(X) and error e(X) are tabulated over the mesh
-  coordinate X = bᵀq (mesh cycles of gear a relative to the carrier).
+* the carrier frames of the lateral model (G, K_Ω blocks);
+* the meshes at their mean stiffness (rank-one, kind ``mesh``);
+
+and beside it the mesh elements (:class:`MeshElement`): rank-one springs along the line of
+action whose deflection δ = aᵀq + e(X) is the Willis row of the gear pair relative to its
+carrier, scaled by the base radii (seed 000 eq 1-2: for a rigid-body motion δ = 0, so the
+rigid-body modes are the kinematic nullspace, eq 5); stiffness k(X) and error e(X) are
+tabulated over the mesh coordinate X = bᵀq (mesh cycles of gear a relative to the carrier).
 
 ``K(t) = K₀ + Σ_m k_m(X_m) a_m a_mᵀ``; ``C = C₀ + Σ_m c_m a_m a_mᵀ``; ``G`` and ``K_Ω`` of the
 carrier frames of the lateral model (0 for the torsional model). :meth:`CoreModel.system`
@@ -20,12 +23,17 @@ gives the integrator's :class:`~geardyn.solve.integrate.LinearSystem`.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from geardyn.errors import InputError
-from geardyn.solve.integrate import Drives, LinearSystem, MassSchedule, VarSprings
+from geardyn.models.core.assembly import Assembly, RankOne
+from geardyn.solve.integrate import LinearSystem, MassSchedule, VarSprings
+
+#: Kind of the meshes' rank-one elements in the assembly.
+MESH = "mesh"
 
 
 @dataclass
@@ -39,15 +47,9 @@ class Body:
     dof: int | None = None  # index of the body's own coordinate q
 
 
-@dataclass
-class Spring:
-    """Linear rank-one element: torque/force −k (aᵀq) a, viscous −c (aᵀq̇) a."""
-
-    name: str
-    kind: str  # "shaft" | "support"
-    k: float
-    a: np.ndarray
-    c: float = 0.0
+class Spring(RankOne):
+    """Linear rank-one element of the assembly: torque/force −k (aᵀq) a, viscous −c (aᵀq̇) a;
+    ``kind``: shaft | support | bearing."""
 
 
 @dataclass
@@ -57,7 +59,9 @@ class MeshElement:
     ``a``: deflection row (m/rad), δ = a·q + e(X); ``b``: mesh-cycle row, X = b·q + x0;
     ``k``/``e`` tables over ``k_period``/``e_period`` mesh cycles (N/m, m); ``c`` viscous
     damping along the line of action (N·s/m). ``psi`` is the direction (rad, sketch plane) of
-    the tooth axis used to make the complex Willis row real.
+    the tooth axis used to make the complex Willis row real. The mesh is also a rank-one
+    element (kind ``mesh``) of the model's assembly at its mean stiffness and damping, for
+    K_mean and C (k a aᵀ does not depend on the orientation of a).
     """
 
     name: str
@@ -88,67 +92,78 @@ class MeshElement:
 
 @dataclass
 class CoreModel:
-    """Assembled model; ``link_velocity`` (complex, links × n) maps q̇ to the seed 000 angular
+    """Assembled model over the shared :class:`Assembly` (named DOFs, inertia blocks, linear
+    rank-one elements, the meshes at their mean stiffness, one rotating frame per carrier of
+    the lateral model); ``link_velocity`` (complex, links × n) maps q̇ to the seed 000 angular
     velocities Ω of the mechanism links (frame row 0)."""
 
-    dof_names: list[str]
-    M: np.ndarray
-    springs: list[Spring]
+    assembly: Assembly
     meshes: list[MeshElement]
     bodies: dict[str, Body]
     links: list[str]
     link_velocity: np.ndarray
     frame: str = ""
-    rotating: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=list)
-    """(rate row r, G, K_Ω) per carrier frame of the lateral model: Ω = r·q̇."""
+
+    @property
+    def dof_names(self) -> list[str]:
+        return self.assembly.names
 
     @property
     def n(self) -> int:
-        return len(self.dof_names)
+        return self.assembly.n
+
+    @property
+    def M(self) -> np.ndarray:  # noqa: N802 (the field's name)
+        """Mass matrix (kinetic energy ½ q̇ᵀ M q̇; kg·m², kg)."""
+        return self.assembly.matrix("M")  # type: ignore[return-value]
+
+    @property
+    def springs(self) -> list[Spring]:
+        """The linear rank-one elements (shafts, supports, bearings), without the meshes."""
+        return [e for e in self.assembly.rank_one if e.kind != MESH]  # type: ignore[misc]
+
+    @property
+    def rotating(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """(rate row r, G, K_Ω) per carrier frame of the lateral model: Ω = r·q̇."""
+        return [(r, g, k) for _name, r, g, k in self.assembly.frame_terms()]
 
     def mass_matrix(self) -> np.ndarray:
-        return self.M.copy()
+        return self.M
 
     def gyroscopic_matrix(self) -> np.ndarray:
         """Σ G of the carrier frames (lateral model; 0 for the torsional model). Each frame's
         term is Ω G q̇ at its own carrier speed: see :attr:`rotating`."""
-        g = np.zeros((self.n, self.n))
-        for _r, gg, _k in self.rotating:
-            g += gg
-        return g
+        return self.assembly.matrix("G")  # type: ignore[return-value]
 
     def centripetal_matrix(self) -> np.ndarray:
         """Σ K_Ω of the carrier frames (the −Ω² K_Ω q term, lateral model)."""
-        k = np.zeros((self.n, self.n))
-        for _r, _g, kk in self.rotating:
-            k += kk
-        return k
+        return self.assembly.matrix("K_omega")  # type: ignore[return-value]
 
     def constant_stiffness(self) -> np.ndarray:
-        """K₀: the linear elements (shafts, supports), without the meshes."""
-        k = np.zeros((self.n, self.n))
-        for s in self.springs:
-            k += s.k * np.outer(s.a, s.a)
-        return k
+        """K₀: the linear elements (shafts, supports, bearings), without the meshes."""
+        kinds = sorted({e.kind for e in self.assembly.rank_one if e.kind != MESH}
+                       | {b.kind for b in self.assembly.blocks if "K" in b.mats})
+        return self.assembly.matrix("K", kinds)  # type: ignore[return-value]
 
     def mesh_vectors(self) -> np.ndarray:
         """Deflection rows a_m (meshes × n, m/rad)."""
         return np.array([m.a for m in self.meshes]).reshape(len(self.meshes), self.n)
 
+    def mesh_indices(self) -> list[int]:
+        """Indices of the meshes among the assembly's rank-one elements."""
+        return [i for i, e in enumerate(self.assembly.rank_one) if e.kind == MESH]
+
     def stiffness_matrix(self, mesh_k: np.ndarray | None = None) -> np.ndarray:
         """K = K₀ + Σ k_m a_m a_mᵀ with the mean mesh stiffnesses (or ``mesh_k``, N/m)."""
-        km = np.array([m.k_mean for m in self.meshes]) if mesh_k is None else np.asarray(mesh_k)
+        if mesh_k is None:
+            return self.assembly.matrix("K")  # type: ignore[return-value]
         a = self.mesh_vectors()
-        return self.constant_stiffness() + (a.T * km) @ a
+        return self.constant_stiffness() + (a.T * np.asarray(mesh_k)) @ a
 
     def damping_matrix(self, rayleigh: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
         """C = C₀ (shaft dampers) + Σ c_m a_m a_mᵀ + α M + β K_mean (seed 003 eq 1.16)."""
-        c = rayleigh[0] * self.M + rayleigh[1] * self.stiffness_matrix()
-        for s in self.springs:
-            c += s.c * np.outer(s.a, s.a)
-        a = self.mesh_vectors()
-        cm = np.array([m.c for m in self.meshes])
-        return c + (a.T * cm) @ a
+        return (rayleigh[0] * self.M + rayleigh[1] * self.stiffness_matrix()
+                + self.assembly.matrix("C"))
 
     def body(self, name: str) -> Body:
         if name not in self.bodies:
@@ -159,33 +174,31 @@ class CoreModel:
         """Rows h of every body (bodies × n): θ = R q."""
         return np.array([b.rotation for b in self.bodies.values()])
 
-    def variable_springs(self, contact_loss: bool = False) -> VarSprings:
-        """The meshes as the integrator's variable springs (damping in C₀, not here)."""
-        rows = [dict(a=m.a, b=m.b, x0=m.x0, k=m.k, k_period=m.k_period, e=m.e,
+    def mesh_rows(self, contact_loss: bool = False) -> list[dict]:
+        """The meshes as variable-spring rows (:meth:`VarSprings.build`), their damping in the
+        rows."""
+        return [dict(a=m.a, b=m.b, x0=m.x0, k=m.k, k_period=m.k_period, e=m.e,
                      e_period=m.e_period, c=m.c, contact_loss=contact_loss or m.contact_loss)
                 for m in self.meshes]
-        return VarSprings.build(rows, self.n)
+
+    def variable_springs(self, contact_loss: bool = False) -> VarSprings:
+        """The meshes as the integrator's variable springs (their damping in the rows)."""
+        return VarSprings.build(self.mesh_rows(contact_loss), self.n)
 
     def system(self, rayleigh: tuple[float, float] = (0.0, 0.0), drives: list[dict] | None = None,
                force_t: np.ndarray | None = None, force: np.ndarray | None = None,
                contact_loss: bool = False, mass_schedule: MassSchedule | None = None,
-               gyroscopic: bool = False) -> LinearSystem:
-        """Integrator system: M, C₀ (shafts + Rayleigh on K_mean), K₀ (linear elements) and the
-        meshes as variable springs carrying their own damping; ``mass_schedule`` optional
-        (M_ii as a function of an angle, e.g. the bucket wheel's ore load); ``gyroscopic``:
-        Ω G q̇ − Ω² K_Ω q of every carrier frame at its current speed (seed 003 eq 3.1)."""
-        c0 = rayleigh[0] * self.M + rayleigh[1] * self.stiffness_matrix()
-        for s in self.springs:
-            c0 += s.c * np.outer(s.a, s.a)
-        n = self.n
-        frames = self.rotating if gyroscopic else []
-        return LinearSystem(
-            self.M.copy(), c0, self.constant_stiffness(), self.variable_springs(contact_loss),
-            Drives.build(drives or []),
-            np.zeros(0) if force_t is None else np.asarray(force_t, float),
-            np.zeros((0, n)) if force is None else np.asarray(force, float),
-            mass_schedule or MassSchedule(), list(self.dof_names),
-            gyro_g=np.array([g for _r, g, _k in frames]).reshape(len(frames), n, n),
-            gyro_k=np.array([k for _r, _g, k in frames]).reshape(len(frames), n, n),
-            gyro_rate=np.array([r for r, _g, _k in frames]).reshape(len(frames), n),
-        )
+               gyroscopic: bool = False, modal_damping: float = 0.0,
+               support_damping: Mapping[str, float] | None = None) -> LinearSystem:
+        """Integrator system (:func:`geardyn.models.core.system.linear_system` on the model's
+        assembly): M, C₀ (shaft dampers + Rayleigh on K_mean + modal damping ζ + dampers on
+        named DOFs), K₀ (linear elements) and the meshes as variable springs carrying their own
+        damping; ``mass_schedule`` optional (M_ii as a function of an angle, e.g. the bucket
+        wheel's ore load); ``gyroscopic``: Ω G q̇ − Ω² K_Ω q of every carrier frame at its
+        current speed (seed 003 eq 3.1)."""
+        from geardyn.models.core.system import linear_system
+
+        return linear_system(self.assembly, self.mesh_rows(contact_loss), self.mesh_indices(),
+                             rayleigh=rayleigh, modal_damping=modal_damping,
+                             support_damping=support_damping, drives=drives, force_t=force_t,
+                             force=force, mass_schedule=mass_schedule, gyroscopic=gyroscopic)
