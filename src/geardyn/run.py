@@ -29,14 +29,19 @@ from geardyn.solve.sanity import (
 def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: ANN001
                    revolutions: float | None = None,
                    progress: Callable[[float], None] | None = None,
-                   control: RunControl | None = None) -> xr.Dataset:
+                   control: RunControl | None = None, model: str | None = None,
+                   prepared=None) -> xr.Dataset:  # noqa: ANN001
     """Simulate ``cfg`` and measure it with its sensors.
 
     ``seed`` drives every random draw of the run (sensor noise, graduation errors, the seed 004
     random impulse errors when enabled): the same config and seed give the same result.
     ``t_end_s`` overrides the planetary run length, ``revolutions`` the FE speed law's.
     ``control`` (:class:`~geardyn.solve.control.RunControl`): progress, cost estimate, stop
-    requests, checkpoints and resume of the chunked integration.
+    requests, checkpoints and resume of the chunked integration. ``model`` picks the model
+    (:func:`simulated_model`: ``planetary``, ``mechanism`` or ``transmission``) when the config
+    describes a lumped model and an FE transmission; ``prepared``: the FE model's
+    :func:`geardyn.models.transmission.prepare` already computed (``geardyn transmission``
+    prints its modes first), reused.
 
     The time step is checked before the run (:func:`geardyn.solve.sanity.check_time_step`:
     refused with an InputError naming it, or a :class:`~geardyn.solve.sanity.TimeStepWarning`).
@@ -53,23 +58,57 @@ def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: AN
     problems = sensor_name_problems(cfg)  # before the run, not after it
     if problems:
         raise InputError("\n".join(problems))
-    pdyn = getattr(cfg, "planetary_dynamics", None)
     ctl = control or RunControl(progress=progress)
     if progress is not None and ctl.progress is None:
         ctl.progress = progress
-    if pdyn is not None and pdyn.simulation is not None:
+    kind = simulated_model(cfg, model)
+    if kind == "planetary":
         ds = _planetary(cfg, int(seed), t_end_s, ctl)
-    elif getattr(cfg, "dynamics", None) is not None and cfg.dynamics.simulation is not None:
+    elif kind == "mechanism":
         from geardyn.models.core.simulate import simulate as simulate_mechanism
 
         ds = simulate_mechanism(cfg, t_end_s, control=ctl)
-    elif getattr(cfg, "transmission", None) is not None:
-        ds = _transmission(cfg, revolutions, t_end_s, ctl)
     else:
+        ds = _transmission(cfg, revolutions, t_end_s, ctl, prepared)
+    return add_sensors(cfg, ds, int(seed))
+
+
+#: Names of the simulated models (``--model`` of ``geardyn simulate`` and ``geardyn modes``).
+MODELS = ("planetary", "mechanism", "transmission")
+
+
+def simulated_model(cfg, model: str | None = None) -> str:  # noqa: ANN001
+    """The model ``run_simulation`` runs: ``planetary`` (``[planetary_dynamics]`` with its
+    ``simulation``), ``mechanism`` (``[dynamics]`` with its ``simulation``) or ``transmission``
+    (the FE shaft lines of ``[transmission]``). Without ``model``: the one the config describes
+    (planetary before mechanism, as before); a lumped model and a ``[transmission]`` together
+    are ambiguous (ConfigError asking for ``model``)."""
+    have = []
+    pdyn = getattr(cfg, "planetary_dynamics", None)
+    if pdyn is not None and pdyn.simulation is not None:
+        have.append("planetary")
+    dyn = getattr(cfg, "dynamics", None)
+    if dyn is not None and dyn.simulation is not None:
+        have.append("mechanism")
+    if getattr(cfg, "transmission", None) is not None:
+        have.append("transmission")
+    if model is not None:
+        if model not in MODELS:
+            raise InputError(f"model: must be one of {', '.join(MODELS)}, got {model!r}")
+        if model not in have:
+            section = {"planetary": "[planetary_dynamics] with [planetary_dynamics.simulation]",
+                       "mechanism": "[dynamics] with [dynamics.simulation]",
+                       "transmission": "[transmission]"}[model]
+            raise ConfigError(f"model '{model}': the config has no {section}")
+        return model
+    if not have:
         raise ConfigError("nothing to simulate: the config has no [planetary_dynamics] section "
                           "with [planetary_dynamics.simulation], no [dynamics] section with "
                           "[dynamics.simulation] and no [transmission]")
-    return add_sensors(cfg, ds, int(seed))
+    if "transmission" in have and len(have) > 1:
+        raise ConfigError(f"the config describes {len(have)} models ({', '.join(have)}): choose "
+                          f"one with --model {' | '.join(have)}")
+    return have[0]
 
 
 def _reference(cfg, names: list[str]) -> str:  # noqa: ANN001
@@ -202,7 +241,7 @@ def body_links(cfg, model) -> dict[str, str]:  # noqa: ANN001
 
 
 def _transmission(cfg, revolutions: float | None, t_end_s: float | None,  # noqa: ANN001
-                  control: RunControl) -> xr.Dataset:
+                  control: RunControl, prepared=None) -> xr.Dataset:  # noqa: ANN001
     from geardyn.models.transmission import simulate
     from geardyn.models.transmission.simulate import SimulationDivergedError
 
@@ -210,7 +249,8 @@ def _transmission(cfg, revolutions: float | None, t_end_s: float | None,  # noqa
         warnings.warn("t_end_s does not apply to the FE transmission (its speed law sets the "
                       "run length); use revolutions", stacklevel=3)
     try:
-        ds = simulate(cfg, revolutions=revolutions, control=control, check_step=True)
+        ds = simulate(cfg, revolutions=revolutions, prepared=prepared, control=control,
+                      check_step=True)
     except SimulationDivergedError as exc:
         ds = exc.result
     return ds

@@ -1,53 +1,229 @@
 """``geardyn modes CONFIG`` — natural frequencies, mode types and energies of the config's
-lumped model: the planetary model (``[planetary_dynamics]``, seed 003 ch. 3) or the general
-torsional model of any mechanism (``[dynamics]``, docs/dynamics.md), with optional mode-shape /
-energy plots."""
+dynamic model: the planetary model (``[planetary_dynamics]``, seed 003 ch. 3), the general
+model of any mechanism (``[dynamics]``, docs/dynamics.md) or the FE shaft lines
+(``[transmission]``, seed 002, linearised at the static preload), with optional mode-shape /
+energy plots and a Campbell table (``--campbell "0:3000:7 rpm"``: frequencies against speed with
+the gyroscopic terms; ``--out DIR`` writes campbell.csv and campbell.png)."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
+import numpy as np
 import typer
 from rich.table import Table
 
 from geardyn.cli import app
 from geardyn.cli.common import console, friendly_errors
+from geardyn.errors import ConfigError, InputError
+
+#: Models of ``--model`` (the names of ``geardyn simulate --model``).
+MODEL_KINDS = ("planetary", "mechanism", "transmission")
+#: Speed units of ``--campbell`` → rad/s per unit.
+SPEED_UNITS = {"rpm": math.pi / 30.0, "rad/s": 1.0, "hz": 2.0 * math.pi, "rev/s": 2.0 * math.pi}
+
+
+def model_kind(cfg, kind: str | None) -> str:  # noqa: ANN001
+    """The model ``modes`` analyses: ``kind`` if given (its section must exist), else the one
+    section the config has (planetary before mechanism); a lumped model and a
+    ``[transmission]`` together need ``--model``."""
+    have = [k for k, sec in (("planetary", "planetary_dynamics"), ("mechanism", "dynamics"),
+                             ("transmission", "transmission"))
+            if getattr(cfg, sec, None) is not None]
+    if kind is not None:
+        if kind not in MODEL_KINDS:
+            raise InputError(f"--model: must be one of {', '.join(MODEL_KINDS)}, got {kind!r}")
+        if kind not in have:
+            section = {"planetary": "planetary_dynamics", "mechanism": "dynamics"}.get(kind, kind)
+            raise ConfigError(f"--model {kind}: the config has no [{section}] section")
+        return kind
+    if not have:
+        raise ConfigError("the config has none of [planetary_dynamics], [dynamics] and "
+                          "[transmission] (see docs/dynamics.md, docs/transmission.md)")
+    if "transmission" in have and len(have) > 1:
+        raise ConfigError(f"the config describes {len(have)} models ({', '.join(have)}): choose "
+                          f"one with --model {' | '.join(have)}")
+    return have[0]
+
+
+def parse_speeds(spec: str) -> tuple[np.ndarray, str]:
+    """``"START:STOP:COUNT UNIT"`` (COUNT equally spaced speeds) or ``"S1,S2,… UNIT"``, UNIT
+    one of rpm (default), rad/s, Hz, rev/s → (speeds in UNIT, unit)."""
+    text = spec.strip()
+    parts = text.split()
+    unit = "rpm"
+    if len(parts) == 2:
+        text, unit = parts
+    elif len(parts) != 1:
+        raise InputError(f"--campbell: expected 'START:STOP:COUNT UNIT' (e.g. '0:3000:7 rpm'), "
+                         f"got {spec!r}")
+    if unit.lower() not in SPEED_UNITS:
+        raise InputError(f"--campbell: unknown speed unit {unit!r} (one of rpm, rad/s, Hz, "
+                         "rev/s)")
+    unit = "Hz" if unit.lower() == "hz" else unit.lower()
+    try:
+        if ":" in text:
+            a, b, n = text.split(":")
+            count = int(n)
+            if count < 1:
+                raise InputError(f"--campbell: COUNT must be ≥ 1, got {count}")
+            speeds = np.linspace(float(a), float(b), count)
+        else:
+            speeds = np.array([float(x) for x in text.split(",") if x])
+    except ValueError:
+        raise InputError(f"--campbell: expected 'START:STOP:COUNT UNIT' or 'S1,S2,… UNIT' "
+                         f"(e.g. '0:3000:7 rpm'), got {spec!r}") from None
+    if speeds.size == 0 or not np.all(np.isfinite(speeds)):
+        raise InputError(f"--campbell: speeds must be finite numbers, got {spec!r}")
+    return speeds, unit
+
+
+def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa: ANN001
+                   n_modes: int, speed_of: str | None = None, prepared=None):  # noqa: ANN001, ANN201
+    """Campbell DataArray (speed [unit], mode) in Hz of the model of ``kind``: FE (reference
+    shaft ``speed_of``, default the speed law's), planetary (the carrier speed, seed 003 eq
+    3.1 via :func:`geardyn.solve.modal.campbell`) or mechanism (the speed of body ``speed_of``,
+    default the first driven link, :func:`geardyn.models.core.modal.core_campbell`)."""
+    rad = speeds * SPEED_UNITS[unit.lower()]
+    if kind == "transmission":
+        from geardyn.models.transmission.modal import fe_campbell
+
+        cd = fe_campbell(model, prepared, rad * 30.0 / math.pi, n_modes=n_modes,
+                         reference=speed_of)
+        of = cd.attrs["speed_of"]
+        cd = cd.rename({"speed_rpm": "speed"})
+        cd["mode"] = np.arange(1, cd.sizes["mode"] + 1)
+    elif kind == "planetary":
+        from geardyn.solve.modal import campbell
+
+        if speed_of is not None:
+            raise InputError("--speed-of: the planetary model's Campbell speed is the carrier "
+                             "speed (seed 003 eq 3.1); leave --speed-of out")
+        cd = campbell(model, rad, n_modes).rename({"carrier_speed": "speed"})
+        of = "carrier"
+    else:
+        from geardyn.models.core.modal import core_campbell
+
+        of = speed_of or _first_driven(cfg, model)
+        if of not in model.bodies:
+            raise InputError(f"--speed-of: unknown body '{of}' (one of "
+                             f"{', '.join(model.bodies)})")
+        cd = core_campbell(model, of, rad, n_modes).copy()
+    cd = cd.assign_coords(speed=("speed", speeds, {"units": unit}))
+    cd.attrs.update({"units": "Hz", "speed_units": unit, "speed_of": of})
+    cd.attrs.pop("carrier_speed_units", None)
+    cd.name = "frequency"
+    return cd
+
+
+def _first_driven(cfg, model) -> str:  # noqa: ANN001
+    for link in getattr(cfg, "input_speeds_rpm", None) or {}:
+        if link in model.bodies:
+            return link
+    return next(b for b in model.bodies if b != getattr(model, "frame", ""))
+
+
+def print_campbell(cd) -> None:  # noqa: ANN001
+    """Rich table of :func:`campbell_table`: one row per speed, one column per mode (Hz)."""
+    unit = cd.attrs["speed_units"]
+    t = Table(title=f"Campbell: natural frequencies (Hz) against the speed of "
+                    f"'{cd.attrs['speed_of']}' ({unit}), gyroscopic terms included",
+              title_justify="left")
+    t.add_column(f"speed ({unit})", justify="right")
+    for m in cd["mode"].values:
+        t.add_column(f"f{int(m)} (Hz)", justify="right")
+    for i, sp in enumerate(cd["speed"].values):
+        t.add_row(f"{sp:g}", *[f"{x:.2f}" for x in cd.values[i]])
+    console.print(t)
+
+
+def write_campbell(cd, out: Path) -> list[Path]:  # noqa: ANN001
+    """campbell.csv (header with units) and campbell.png (frequency [Hz] against speed)."""
+    from geardyn.checkpoint import write_text
+    from geardyn.plotting import save_figure
+
+    unit = cd.attrs["speed_units"]
+    modes = [int(m) for m in cd["mode"].values]
+    lines = [",".join([f"speed_{unit.replace('/', '_per_')}"] + [f"f{m}_hz" for m in modes])]
+    for i, sp in enumerate(cd["speed"].values):
+        lines.append(",".join([repr(float(sp))] + [repr(float(x)) for x in cd.values[i]]))
+    csv = out / "campbell.csv"
+    write_text(csv, "\n".join(lines) + "\n")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for j, m in enumerate(modes):
+        ax.plot(cd["speed"].values, cd.values[:, j], "o-", ms=3, lw=1, label=f"mode {m}")
+    ax.set_xlabel(f"speed of {cd.attrs['speed_of']} [{unit}]")
+    ax.set_ylabel("natural frequency [Hz]")
+    ax.set_title("Campbell diagram (gyroscopic terms included)")
+    ax.grid(alpha=0.3)
+    if len(modes) <= 12:
+        ax.legend(fontsize=7, ncol=2)
+    png = out / "campbell.png"
+    save_figure(fig, png)
+    return [csv, png]
 
 
 @app.command("modes")
 @friendly_errors
 def modes_cmd(
-    config: Path = typer.Argument(..., help="TOML config with a [planetary_dynamics] or "
-                                  "[dynamics] section"),
+    config: Path = typer.Argument(..., help="TOML config with a [planetary_dynamics], "
+                                  "[dynamics] or [transmission] section"),
     reduction: str | None = typer.Option(
         None, "--reduction", help="override: none | torsional | transverse (planetary model)"),
-    model_kind: str | None = typer.Option(
-        None, "--model", help="planetary | mechanism (default: planetary when the config has "
-        "[planetary_dynamics], else the [dynamics] model of the mechanism)"),
+    model_kind_opt: str | None = typer.Option(
+        None, "--model", help="planetary | mechanism | transmission (default: the model the "
+        "config describes; planetary before mechanism; a lumped model and [transmission] "
+        "together need --model)"),
     max_hz: float | None = typer.Option(None, "--max-hz", help="list modes up to this (Hz)"),
     plot: Path | None = typer.Option(None, "--plot", help="PNG: kinetic/strain energy per "
                                      "mode (up to --max-hz)"),
     netcdf: Path | None = typer.Option(None, "--netcdf", help="write frequencies, shapes, "
                                        "energy fractions (xarray)"),
+    campbell_spec: str | None = typer.Option(
+        None, "--campbell", help="Campbell table at these speeds: 'START:STOP:COUNT UNIT' or "
+        "'S1,S2,… UNIT', UNIT rpm (default) | rad/s | Hz | rev/s, e.g. '0:3000:7 rpm'; speed of "
+        "the carrier (planetary), of --speed-of (mechanism body, FE shaft)"),
+    speed_of: str | None = typer.Option(
+        None, "--speed-of", help="Campbell speed: FE reference shaft (default: the speed "
+        "law's) or mechanism body (default: the first driven link)"),
+    campbell_modes: int = typer.Option(10, "--campbell-modes", min=1,
+                                       help="modes in the Campbell table"),
+    out: Path | None = typer.Option(None, "--out", help="directory for campbell.csv and "
+                                    "campbell.png (with --campbell)"),
 ) -> None:
-    """Natural frequencies, multiplicities, mode types, dominant motion and strain energy."""
+    """Natural frequencies, multiplicities, mode types, dominant motion and strain energy;
+    Campbell table (frequencies against speed with gyroscopic terms)."""
     from geardyn.config import load_config
-    from geardyn.errors import ConfigError, InputError
 
+    if out is not None and campbell_spec is None:
+        raise InputError("--out: writes the Campbell table and figure; give --campbell too")
+    if out is not None and not out.is_dir():
+        raise InputError(f"--out: directory '{out}' does not exist")
+    speeds = parse_speeds(campbell_spec) if campbell_spec is not None else None
     cfg = load_config(config)
-    kind = model_kind or ("planetary" if cfg.planetary_dynamics is not None else "mechanism")
-    if kind not in ("planetary", "mechanism"):
-        raise InputError(f"--model: must be 'planetary' or 'mechanism', got {kind!r}")
+    kind = model_kind(cfg, model_kind_opt)
+    prepared = None
     if kind == "mechanism":
         from geardyn.models.core import model_from_config as core_model
         from geardyn.models.core.modal import core_modes
 
-        if cfg.dynamics is None:
-            raise ConfigError("the config has neither [planetary_dynamics] nor [dynamics] "
-                              "(see docs/dynamics.md)")
         model = core_model(cfg)
         res = core_modes(model)
         title = f"modes of {config.name} ({model.n} DOF, torsional model of the mechanism)"
+        plot_model = None
+    elif kind == "transmission":
+        from geardyn.models.transmission import build_model, prepare
+        from geardyn.models.transmission.modal import fe_modes
+
+        model = build_model(cfg)
+        law = cfg.transmission.speed_law
+        prepared = prepare(model, law.reference.shaft if law else None)
+        res = fe_modes(model, prepared)
+        title = (f"modes of {config.name} ({model.ndof} DOF, FE shaft lines linearised at the "
+                 "static preload, gyroscopic terms neglected)")
         plot_model = None
     else:
         from geardyn.models.planetary.build import model_from_config
@@ -77,3 +253,10 @@ def modes_cmd(
 
         save_figure(res.plot(model=plot_model, max_hz=max_hz), plot)
         console.print(f"wrote {plot}")
+    if speeds is not None:
+        cd = campbell_table(kind, cfg, model, speeds[0], speeds[1], campbell_modes, speed_of,
+                            prepared)
+        print_campbell(cd)
+        if out is not None:
+            for p in write_campbell(cd, out):
+                console.print(f"wrote {p}")

@@ -1,13 +1,13 @@
-"""``geardyn transmission CONFIG``: modes and time simulation of the FE transmission (seed 002)."""
+"""``geardyn transmission CONFIG``: alias of ``geardyn simulate`` for the FE transmission (seed
+002), with its linearised modes (and optionally a Campbell table) printed first. The run is the
+same code as ``simulate`` (:func:`geardyn.cli.simulate.run_and_write`)."""
 
 from __future__ import annotations
 
 import math
-import warnings
 from pathlib import Path
 
 import typer
-from rich.markup import escape
 from rich.table import Table
 
 from geardyn.cli import app
@@ -40,17 +40,17 @@ def transmission_cmd(
     resume: bool = typer.Option(False, "--resume", help="continue a killed or interrupted run "
                                 "from NETCDF.ckpt.npz (same config and options)"),
 ) -> None:
-    """Static preload, linearised modes and a speed-law run with IAS outputs.
+    """Alias of `geardyn simulate CONFIG --model transmission` (the same run, options named
+    --netcdf instead of --out and an optional output file), printing the static-preload
+    linearised modes first (--modes-only: only them).
 
-    Exit codes: 0 ok; 2 bad input or a diverged run; 3 the run ended suspect, stopped or
-    reversed; 130 interrupted by Ctrl-C/SIGTERM (with --netcdf the computed part is written
-    with status interrupted). See docs/robustness.md."""
-    from geardyn.checkpoint import check_output, checkpoint_path
-    from geardyn.cli.runs import check_run_options, exit_for_status, finish_run, run_with_control
-    from geardyn.models.transmission import build_model, prepare, simulate
-    from geardyn.models.transmission.simulate import SimulationDivergedError
-    from geardyn.results import to_netcdf
-    from geardyn.run import add_sensors
+    Exit codes: 0 ok; 2 bad input; 3 the run ended diverged, suspect, stopped or reversed
+    (with --netcdf the result is written); 130 interrupted by Ctrl-C/SIGTERM (with --netcdf the
+    computed part is written with status interrupted). See docs/robustness.md."""
+    from geardyn.checkpoint import check_output
+    from geardyn.cli.runs import check_run_options
+    from geardyn.cli.simulate import run_and_write
+    from geardyn.models.transmission import build_model, prepare
 
     if revolutions is not None and not (math.isfinite(revolutions) and revolutions > 0):
         raise InputError(f"--revolutions: must be a finite number > 0, got {revolutions:g}")
@@ -77,58 +77,15 @@ def transmission_cmd(
     if campbell_rpm is not None:
         import numpy as np
 
-        from geardyn.models.transmission.assembly import campbell
-        from geardyn.models.transmission.simulate import speed_ratios
+        from geardyn.cli.modes import campbell_table, print_campbell
 
         if campbell_rpm <= 0:
             raise ConfigError("--campbell must be > 0 rpm")
-        ref_c = ref or next(iter(model.shaft_nodes))
         speeds = np.linspace(0.0, campbell_rpm, 5)
-        cd = campbell(model, prep.K_lin, speeds, speed_ratios(model, ref_c), n_modes=modes)
-        tc = Table(title=f"Campbell: whirl frequencies (Hz) vs speed of '{ref_c}' (rpm)",
-                   title_justify="left")
-        tc.add_column("mode", justify="right")
-        for sp in speeds:
-            tc.add_column(f"{sp:.0f}", justify="right")
-        for j in range(cd.sizes["mode"]):
-            tc.add_row(str(j), *[f"{x:.2f}" for x in cd.values[:, j]])
-        console.print(tc)
+        print_campbell(campbell_table("transmission", cfg, model, speeds, "rpm", modes,
+                                      prepared=prep))
     if modes_only:
         return
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            ds = run_with_control(
-                cfg, netcdf, checkpoint_every, resume,
-                options={"seed": seed, "revolutions": revolutions},
-                run=lambda ctl: simulate(cfg, revolutions=revolutions, prepared=prep,
-                                         control=ctl, check_step=True))
-        for w in caught:
-            console.print(f"[bold yellow]warning:[/] {escape(str(w.message))}", highlight=False)
-    except SimulationDivergedError as exc:
-        if netcdf is not None:
-            to_netcdf(exc.result, netcdf)
-            console.print(f"partial result written to {netcdf}")
-        raise
-    add_sensors(cfg, ds, seed)
-    a = ds.attrs
-    ein, eout = a["energy_input_J"], a["energy_output_J"]
-    console.print(
-        f"simulated {float(ds.time[-1]):.3f} s in {a['steps']} steps "
-        f"({a['wall_integrate_s']:.1f} s); efficiency "
-        f"{eout / ein if ein else float('nan'):.3%}"
-    )
-    ckpt = checkpoint_path(netcdf) if netcdf is not None else None
-    if netcdf is not None:
-        ds.attrs["config"] = str(config)
-    finish_run(ds, netcdf, ckpt)
-    if netcdf is not None:
-        console.print(f"time histories written to {netcdf} (layout: docs/results.md)")
-    if a["status"] == "interrupted":
-        exit_for_status(ds, ckpt)
-    if plots is not None:
-        from geardyn.models.transmission.report import write_figures
-
-        for p in write_figures(ds, cfg, plots, shaft=shaft):
-            console.print(f"figure {p}")
-    exit_for_status(ds, ckpt)
+    run_and_write(cfg, config, netcdf, model="transmission", seed=seed,
+                  revolutions=revolutions, checkpoint_every=checkpoint_every, resume=resume,
+                  plots=plots, shaft=shaft, prepared=prep)

@@ -79,6 +79,11 @@ def write_figures(ds: xr.Dataset, cfg, outdir: Path, shaft: str = "output",  # n
 
     outdir.mkdir(parents=True, exist_ok=True)
     w = ias_angle_signal(ds, shaft)
+    if w.size < 4:
+        th = ds.angle.sel(shaft=shaft).values
+        revs = abs(th[-1] - th[0]) / (2 * np.pi)
+        raise InputError(f"IAS figures of '{shaft}': the run turns it {revs:.3g} revolution(s); "
+                         "the figures drop the first one and need more (raise the revolutions)")
     spec = order_spectrum(w - w.mean(), 1000)
     try:
         mk = markers(cfg, shaft)

@@ -1,0 +1,169 @@
+"""Modes and Campbell diagram of the FE transmission (seed 002 eqs 2-3 linearised at the static
+preload) in the :class:`geardyn.solve.modal.ModalResult` form of the lumped models.
+
+* :func:`fe_modes` — frequencies, mass-normalised shapes on the named DOFs
+  (``{shaft}.n{i}.{x,y,z,rx,ry,rz}``), multiplicities, a mode type from the kinetic energy
+  (``torsional``: θz, ``lateral``: x, y, θx, θy, ``axial``: z; ``mixed`` when none holds half of
+  it; ``rigid`` below :data:`RIGID_HZ`), modal kinetic energy per DOF ½ ω² φ_k (Mφ)_k and strain
+  energy per element ½ φ_eᵀ K_e φ_e (seed 003 eqs 3.28-3.29 applied to element matrices): each
+  Timoshenko element (``{shaft}.e{i}``), each bearing and each mesh (their tangent stiffness at
+  the preload, finite differences of the connecting forces as in
+  :func:`geardyn.models.transmission.simulate.connecting_jacobian`).
+* :func:`fe_campbell` — whirl frequencies against the reference-shaft speed with the
+  gyroscopic matrices of every shaft (:func:`geardyn.models.transmission.assembly.campbell`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import xarray as xr
+
+from geardyn.models.transmission.assembly import (
+    NODE_DOFS,
+    TransmissionModel,
+    campbell,
+    modal_analysis,
+)
+
+#: Modes below this frequency [Hz] are the drive line's rigid-body rotation.
+RIGID_HZ = 0.5
+#: DOF label → motion group of the mode type.
+MOTION = {"x": "lateral", "y": "lateral", "rx": "lateral", "ry": "lateral", "z": "axial",
+          "rz": "torsional"}
+
+
+def _one(soa, i: int):  # noqa: ANN001, ANN202
+    """Element ``i`` of a structure-of-arrays (:class:`.Bearings`, :class:`.Meshes`)."""
+    upd = {}
+    for f in dataclasses.fields(soa):
+        v = getattr(soa, f.name)
+        if isinstance(v, np.ndarray) and v.ndim >= 1:
+            upd[f.name] = v[i:i + 1].copy()
+        elif isinstance(v, list) and v:
+            upd[f.name] = v[i:i + 1]
+    return dataclasses.replace(soa, **upd)
+
+
+def element_tangents(model: TransmissionModel, q: np.ndarray, h: float = 1e-9
+                     ) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """(name, DOF indices, tangent stiffness −∂F/∂q on them, symmetrised) of every bearing
+    (``bearing.{name}``, its node) and mesh (``mesh.{pair}``, its two nodes) at state ``q``."""
+    from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+
+    v = np.zeros(model.ndof)
+    out = []
+
+    def tangent(force, dofs: np.ndarray) -> np.ndarray:  # noqa: ANN001
+        f0 = force(q)
+        J = np.zeros((dofs.size, dofs.size))
+        for jj, j in enumerate(dofs):
+            qp = q.copy()
+            qp[j] += h
+            J[:, jj] = -(force(qp) - f0)[dofs] / h
+        return 0.5 * (J + J.T)
+
+    bs = model.bearings
+    for i, name in enumerate(bs.names):
+        b = _one(bs, i)
+
+        def fb(qq: np.ndarray, b=b) -> np.ndarray:  # noqa: ANN001
+            f = np.zeros(model.ndof)
+            bearing_forces(qq, v, f, np.zeros(5), *b.args(), np.zeros((1, 3)))
+            return f
+
+        dofs = 6 * int(bs.node[i]) + np.arange(6)
+        out.append((f"bearing.{name}", dofs, tangent(fb, dofs)))
+    mh = model.meshes
+    for i, name in enumerate(mh.names):
+        m = _one(mh, i)
+
+        def fm(qq: np.ndarray, m=m) -> np.ndarray:  # noqa: ANN001
+            f = np.zeros(model.ndof)
+            mesh_forces(qq, v, f, np.zeros(5), *m.args(), np.zeros(1))
+            return f
+
+        dofs = np.concatenate([6 * int(mh.na[i]) + np.arange(6), 6 * int(mh.nb[i]) + np.arange(6)])
+        out.append((f"mesh.{name}", dofs, tangent(fm, dofs)))
+    return out
+
+
+def _multiplicity(f: np.ndarray, rtol: float = 1e-6) -> np.ndarray:
+    mult = np.ones(f.size, np.int64)
+    i = 0
+    while i < f.size:
+        j = i + 1
+        while j < f.size and abs(f[j] - f[i]) <= rtol * max(abs(f[i]), 1.0):
+            j += 1
+        mult[i:j] = j - i
+        i = j
+    return mult
+
+
+def fe_modes(model: TransmissionModel, prepared=None):  # noqa: ANN001, ANN201
+    """Modes of the FE transmission linearised at the static preload (gyroscopic terms
+    neglected), as a :class:`geardyn.solve.modal.ModalResult`; ``prepared``: the
+    :func:`~geardyn.models.transmission.simulate.prepare` result (computed if None)."""
+    from geardyn.models.transmission.simulate import prepare
+    from geardyn.solve.modal import ModalResult
+
+    prep = prepared if prepared is not None else prepare(model)
+    M = model.M
+    f, phi = modal_analysis(M, prep.K_lin)
+    w = 2 * math.pi * f
+    mphi = M @ phi
+    frac = (phi * mphi).T  # (mode, dof), rows sum to 1 (mass-normalised)
+    kinetic = 0.5 * w[:, None] ** 2 * frac
+    names = model.dof_names
+    labels = [n.rsplit(".", 1)[1] for n in names]
+    groups = {g: np.array([MOTION[lab] == g for lab in labels]) for g in set(MOTION.values())}
+    elements = []
+    asm = model.assembly
+    if asm is not None:
+        for b in asm.blocks:
+            if "K" in b.mats:
+                elements.append((b.name, b.dofs, b.mats["K"]))
+    elements += element_tangents(model, prep.q0)
+    strain = np.zeros((f.size, len(elements)))
+    for j, (_, dofs, k) in enumerate(elements):
+        p = phi[dofs]
+        strain[:, j] = 0.5 * np.einsum("im,ij,jm->m", p, k, p)
+    types = []
+    for i, fi in enumerate(f):
+        if fi < RIGID_HZ:
+            types.append("rigid")
+            continue
+        share = {g: float(frac[i, sel].sum()) for g, sel in groups.items()}
+        g = max(share, key=share.get)
+        types.append(g if share[g] >= 0.5 else "mixed")
+    bins = [e[0].split(".", 1)[0] if e[0].split(".", 1)[0] in ("bearing", "mesh")
+            else "shaft" for e in elements]
+    return ModalResult(f, phi, _multiplicity(f), types, kinetic, strain, list(names),
+                       [e[0] for e in elements], bins, frac)
+
+
+def fe_campbell(model: TransmissionModel, prepared, speeds_rpm: np.ndarray,  # noqa: ANN001
+                n_modes: int = 20, reference: str | None = None) -> xr.DataArray:
+    """Whirl frequencies (Hz) of M q̈ + G(Ω) q̇ + K_lin q = 0 against the speed of the
+    ``reference`` shaft (rpm; default: the one of ``prepared``), every shaft spinning at its
+    kinematic ratio (:func:`geardyn.models.transmission.assembly.campbell`)."""
+    from geardyn.models.transmission.simulate import speed_ratios
+
+    ratios = prepared.speed_ratio if reference is None else None
+    if ratios is None or not ratios:
+        from geardyn.errors import InputError
+
+        ref = reference or next(iter(model.shaft_nodes))
+        if ref not in model.shaft_nodes:
+            raise InputError(f"reference shaft '{ref}' unknown (one of "
+                             f"{', '.join(model.shaft_nodes)})")
+        ratios = speed_ratios(model, ref)
+    ref = next(iter(ratios))  # speed_ratios puts the reference shaft first
+    cd = campbell(model, prepared.K_lin, np.asarray(speeds_rpm, float), ratios, n_modes=n_modes)
+    cd.attrs.update({"speed_of": ref, "speed_units": "rpm"})
+    return cd
+
+
+__all__ = ["MOTION", "NODE_DOFS", "RIGID_HZ", "element_tangents", "fe_campbell", "fe_modes"]
