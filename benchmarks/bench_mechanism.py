@@ -89,7 +89,7 @@ def dense_refactor(sys: LinearSystem, q0: np.ndarray, v0: np.ndarray, steps: int
 
     def assemble(q: np.ndarray, v: np.ndarray, t: float) -> tuple:
         _mesh_state(q, s.a, s.b, s.x0, s.ktab, s.klen, s.kper, s.etab, s.elen, s.eper,
-                    s.contact_loss, kout, eout, dout)
+                    s.gap(), kout, eout, dout)
         _force_table(t, ft, fv, f)
         _drive_forces(t, q, v, d.kind, d.a, d.b, d.ha, d.hb, d.p0, d.p1, d.tx, d.ty, d.tlen, f)
         kk = k0 + (s.a.T * kout) @ s.a
