@@ -48,7 +48,9 @@ from geardyn.models.core.lateral import (
     add_lateral_mass,
     add_rotating_frames,
     bearing_springs,
+    bevel_translation,
     lateral_layout,
+    lateral_map_3d,
     mesh_translation,
 )
 from geardyn.models.core.model import MESH, Body, CoreModel, MeshElement, Spring
@@ -368,7 +370,7 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
         asm.add_rank_one(Spring(sh.name, "support" if sh.b == graph.frame else "shaft",
                                 sh.torsional_nm_per_rad, ha - hb, sh.damping_nms_per_rad))
     meshes = _meshes(graph, kin, pmap, phi, sizes, blanks, spec.mesh_damping_ratio,
-                     pe_tables or {}, layout)
+                     pe_tables or {}, layout, tree)
     for m in meshes:
         asm.add_rank_one(RankOne(m.name, MESH, m.k_mean, m.a.copy(), m.c))
     return CoreModel(asm, meshes, bodies, list(graph.links), pmap, graph.frame)
@@ -377,10 +379,12 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
 def _meshes(graph: MechanismGraph, kin: KinematicAnalysis, pmap: np.ndarray,
             phi: Mapping[str, float], sizes: Mapping[str, PairSize],
             blanks: Mapping[str, Blank], zeta_default: float,
-            pe: Mapping[str, np.ndarray], layout: Mapping[str, LateralBody]
-            ) -> list[MeshElement]:
+            pe: Mapping[str, np.ndarray], layout: Mapping[str, LateralBody],
+            tree: list[tuple[str, str]]) -> list[MeshElement]:
     idx = {x: i for i, x in enumerate(graph.links)}
     phases = _planet_phases(graph)
+    parent = dict(tree)
+    own = {x: i for i, (x, _p) in enumerate(tree)}
     out = []
     for row, (m, k) in enumerate(zip(graph.meshes, kin.carriers, strict=True), start=1):
         sz = sizes[m.name]
@@ -392,6 +396,10 @@ def _meshes(graph: MechanismGraph, kin: KinematicAnalysis, pmap: np.ndarray,
             real = -real
         a = sz.module * math.cos(sz.alpha) / 2 * real
         a = a + mesh_translation(m, layout, sz.alpha, sz.settings.position_angle_deg, len(a))
+        if layout and (abs(math.sin(m.theta_a)) > 1e-9 or abs(math.sin(m.theta_b)) > 1e-9):
+            centre = tuple(lateral_map_3d(x, layout, phi, parent, len(a))
+                           for x in (m.link_a, m.link_b))
+            a = a + bevel_translation(m, a, psi, sz.alpha, phi, own, centre)  # type: ignore[arg-type]
         rel_a = np.exp(-1j * phi[m.link_a]) * (pmap[idx[m.link_a]] - pmap[idx[k]])
         b = m.teeth_a / (2 * math.pi) * rel_a.real
         s = sz.settings

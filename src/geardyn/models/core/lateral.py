@@ -163,3 +163,66 @@ def mesh_translation(m: GearMesh, layout: Mapping[str, LateralBody], alpha: floa
     tilt = alpha if (int_a or int_b) else -alpha
     nvec = np.array([-math.sin(psi + tilt), math.cos(psi + tilt)])
     return nvec @ (da - db)
+
+
+def lateral_map_3d(link: str, layout: Mapping[str, LateralBody], phi: Mapping[str, float],
+                   parent: Mapping[str, str], n: int) -> np.ndarray:
+    """D (3 × n): translation of the link's centre in the sketch frame (Re, Im, out of the
+    sketch). The lateral plane of a link with axis φ is spanned by x̂ = (−sin φ, cos φ, 0) (in
+    the sketch) and ŷ = (0, 0, 1); a link without lateral DOFs (a differential pinion) moves
+    with the nearest ancestor that has them (its carrier), the frame not at all."""
+    d = np.zeros((3, n))
+    while link not in layout:
+        if link not in parent:
+            return d
+        link = parent[link]
+    p = layout[link].carrier if layout[link].kind == "planet" else link
+    f = phi[p or link]
+    dd = centre_map(link, layout, n)
+    d[0], d[1], d[2] = -math.sin(f) * dd[0], math.cos(f) * dd[0], dd[1]
+    return d
+
+
+def bevel_translation(m: GearMesh, torsional: np.ndarray, psi: float, alpha: float,
+                      phi: Mapping[str, float], own: Mapping[str, int],
+                      centre: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Lateral part of a bevel pair's mesh row through its pitch-cone geometry.
+
+    Tredgold's equivalent spur pair at the mean point of the pitch-cone generator (the tooth
+    axis ψ of seed 000, in the plane of both axes; Niemann & Winter, Maschinenelemente III
+    §24; ISO 10300-1 §6: the tangential, radial and axial mesh forces F_t, F_t tan α cos δ,
+    F_t tan α sin δ): the line of action has the component cos α out of the sketch plane
+    (tangential at the mean point) and sin α in the plane, normal to the generator, pushing
+    the gears apart. A gear's centre displaced by d along its own radial direction ρ̂ (in the
+    sketch, from its axis towards the generator) approaches its mate by sin α cos δ ρ̂·d (δ the
+    pitch-cone angle, cos δ = |ĝ·ê| with ĝ = e^{iψ}, ê the gear axis); along ŷ (out of the
+    sketch) by cos α ŷ·d. Hence, up to the sign of the torsional row,
+
+        δ_lat = σ [sin α (cos δ_a ρ̂_a·d_a + cos δ_b ρ̂_b·d_b) + cos α ŷ·(d_a − d_b)],
+
+    σ = ±1 such that the tangential direction matches the torsional row: a rotation of gear a
+    about its axis ê_a moves its mean point along (ê_a × ρ̂_a)·ŷ. The axial components of the
+    gear forces (sin δ) act on no DOF of the lateral model. Gear bodies lie on the side of the
+    apex towards ĝ (a convention of the sketch; the other side mirrors x̂). ``own``: index of
+    each link's own coordinate; ``centre``: the 3 × n translation maps of gears a and b
+    (:func:`lateral_map_3d`)."""
+    n = len(torsional)
+    g = np.array([math.cos(psi), math.sin(psi)])
+    rho, cosd = [], []
+    for link in (m.link_a, m.link_b):
+        e = np.array([math.cos(phi[link]), math.sin(phi[link])])
+        r = g - (g @ e) * e
+        rho.append(r / np.linalg.norm(r))
+        cosd.append(abs(float(g @ e)))
+    if m.link_a in own:
+        e_a = np.array([math.cos(phi[m.link_a]), math.sin(phi[m.link_a])])
+        tang, coef = e_a[0] * rho[0][1] - e_a[1] * rho[0][0], torsional[own[m.link_a]]
+    else:  # gear a on the frame: gear b's rotation moves its point along −(ê_b × ρ̂_b)·ŷ
+        e_b = np.array([math.cos(phi[m.link_b]), math.sin(phi[m.link_b])])
+        tang, coef = -(e_b[0] * rho[1][1] - e_b[1] * rho[1][0]), torsional[own[m.link_b]]
+    if abs(coef) == 0.0 or abs(tang) < 1e-12:
+        return np.zeros(n)
+    sigma = math.copysign(1.0, coef * tang)
+    da, db = centre
+    sep = cosd[0] * (rho[0] @ da[:2]) + cosd[1] * (rho[1] @ db[:2])
+    return sigma * (math.sin(alpha) * sep + math.cos(alpha) * (da[2] - db[2]))
