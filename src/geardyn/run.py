@@ -210,7 +210,8 @@ def _check_mesh_deflection(ds: xr.Dataset, cfg) -> None:  # noqa: ANN001
             names = [m for m in names if m.startswith(f"{sd.stage}.")]
         if not names:
             continue
-        d = float(np.nanmax(np.abs(ds["mesh_deflection"].sel(mesh=names).values)))
+        d = float(np.nanmax(np.abs(_compression(ds["mesh_deflection"].sel(mesh=names).values,
+                                                 _stage_backlash(sd, names)))))
         if not math.isfinite(d) or d > MAX_DEFLECTION_PER_MODULE * module:
             worst.append(f"stage '{sd.stage}': mesh deflection up to {d * 1e3:.3g} mm for a "
                          f"module of {module * 1e3:.3g} mm")
@@ -219,6 +220,18 @@ def _check_mesh_deflection(ds: xr.Dataset, cfg) -> None:  # noqa: ANN001
         ds.attrs["diagnosis"] = ("; ".join(worst) + f" (more than {MAX_DEFLECTION_PER_MODULE:g}"
                                  " × module): reduce simulation.dt_s or check the stiffnesses "
                                  "and loads; the computed part is kept")
+
+
+def _stage_backlash(sd, names: list[str]) -> np.ndarray:  # noqa: ANN001 - StageDynamics
+    """Backlash (m) of each named mesh of a stage: its sun or ring mesh law."""
+    return np.array([(sd.sun_mesh if n.endswith("mesh_sun") else sd.ring_mesh).backlash_m
+                     for n in names])
+
+
+def _compression(delta: np.ndarray, backlash: np.ndarray) -> np.ndarray:
+    """Tooth compression of meshes with backlash b: δ on the drive flank (δ ≥ 0), δ + b on
+    the back flank (δ ≤ −b), 0 while the teeth are apart; the gap itself is no deflection."""
+    return np.where(delta >= 0, delta, np.minimum(delta + backlash, 0.0))
 
 
 def body_links(cfg, model) -> dict[str, str]:  # noqa: ANN001
