@@ -17,6 +17,7 @@ field names):
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -88,15 +89,95 @@ class RotorDynamics(_M):
     inertia_kgm2: float = Field(gt=0)
 
 
+#: Fields that describe a shaft by its geometry and material (an FE shaft).
+SHAFT_GEOMETRY_FIELDS = ("outer_diameter_m", "inner_diameter_m", "length_m", "shear_modulus_pa",
+                         "youngs_modulus_pa", "poisson_ratio", "density_kg_m3", "elements")
+
+
 class ShaftDynamics(_M):
-    """Torsional shaft between two bodies (links or rotors); ``b`` may be the frame (a
-    torsional support)."""
+    """Shaft between two bodies (links or rotors); ``b`` may be the frame (a torsional
+    support). Either a torsional spring (``torsional_nm_per_rad``) or, given by its geometry
+    and material, a torsional FE shaft line of ``elements`` two-node elements whose inner nodes
+    are DOFs of the model (:mod:`geardyn.models.core.fe_shafts`, docs/dynamics.md "FE
+    shafts")."""
 
     name: str = Field(min_length=1)
     a: str
     b: str
-    torsional_nm_per_rad: float = Field(gt=0)
-    damping_nms_per_rad: float = Field(0.0, ge=0)
+    torsional_nm_per_rad: float | None = Field(
+        None, gt=0, description="torsional stiffness of a massless shaft (N·m/rad); or give "
+        "the geometry (outer_diameter_m, length_m, material) for an FE shaft")
+    damping_nms_per_rad: float = Field(
+        0.0, ge=0, description="damping between the two ends (N·m·s/rad); on an FE shaft "
+        "stiffness-proportional, C = (c/k) K with k = G I_p / L, the same end-to-end damper "
+        "for a massless shaft")
+    outer_diameter_m: float | None = Field(None, gt=0, description="FE shaft: outer "
+                                           "diameter (m)")
+    inner_diameter_m: float = Field(0.0, ge=0, description="FE shaft: bore diameter (m)")
+    length_m: float | None = Field(None, gt=0, description="FE shaft: length between the "
+                                   "two bodies (m)")
+    shear_modulus_pa: float | None = Field(None, gt=0, description="FE shaft: shear modulus "
+                                           "G (Pa); or youngs_modulus_pa and poisson_ratio")
+    youngs_modulus_pa: float | None = Field(None, gt=0, description="FE shaft: Young's "
+                                            "modulus E (Pa), G = E / (2 (1 + ν))")
+    poisson_ratio: float | None = Field(None, gt=-1, lt=0.5, description="FE shaft: "
+                                        "Poisson's ratio ν")
+    density_kg_m3: float = Field(7850.0, gt=0, description="FE shaft: density (kg/m³)")
+    elements: int = Field(4, ge=1, le=200, description="FE shaft: number of two-node "
+                          "torsional elements (elements − 1 inner nodes; 1: the two ends "
+                          "only, consistent mass)")
+
+    @model_validator(mode="after")
+    def _one_description(self) -> ShaftDynamics:
+        geometry = sorted(f for f in SHAFT_GEOMETRY_FIELDS if f in self.model_fields_set)
+        if self.torsional_nm_per_rad is not None:
+            if geometry:
+                raise ValueError(
+                    f"give either torsional_nm_per_rad (a massless torsional spring) or the "
+                    f"shaft geometry (an FE shaft), not both: remove {', '.join(geometry)} or "
+                    "torsional_nm_per_rad")
+            return self
+        missing = [f for f in ("outer_diameter_m", "length_m") if getattr(self, f) is None]
+        if missing:
+            raise ValueError(
+                "a shaft needs torsional_nm_per_rad (a massless torsional spring) or its "
+                "geometry and material (an FE shaft: outer_diameter_m, length_m, "
+                "shear_modulus_pa or youngs_modulus_pa + poisson_ratio); missing "
+                f"{', '.join(missing)}")
+        e_nu = (self.youngs_modulus_pa is not None, self.poisson_ratio is not None)
+        if (self.shear_modulus_pa is not None) == all(e_nu) or any(e_nu) != all(e_nu):
+            raise ValueError(
+                "shear_modulus_pa: give the shear modulus G, or youngs_modulus_pa and "
+                "poisson_ratio (G = E / (2 (1 + ν))), exactly one of the two")
+        if self.inner_diameter_m >= self.outer_diameter_m:  # type: ignore[operator]
+            raise ValueError(f"inner_diameter_m: the bore {self.inner_diameter_m:g} m must be "
+                             f"smaller than outer_diameter_m {self.outer_diameter_m:g} m")
+        return self
+
+    @property
+    def is_fe(self) -> bool:
+        """True for a shaft given by its geometry (an FE shaft line)."""
+        return self.torsional_nm_per_rad is None
+
+    @property
+    def shear_modulus(self) -> float:
+        """G (Pa): given, or E / (2 (1 + ν))."""
+        if self.shear_modulus_pa is not None:
+            return self.shear_modulus_pa
+        return self.youngs_modulus_pa / (2 * (1 + self.poisson_ratio))  # type: ignore[operator]
+
+    @property
+    def polar_moment_m4(self) -> float:
+        """Polar second moment of area of the tube, I_p = π (D⁴ − d⁴) / 32 (m⁴)."""
+        d_o, d_i = float(self.outer_diameter_m or 0.0), self.inner_diameter_m
+        return math.pi * (d_o**4 - d_i**4) / 32
+
+    @property
+    def stiffness_nm_per_rad(self) -> float:
+        """End-to-end torsional stiffness (N·m/rad): given, or G I_p / L."""
+        if self.torsional_nm_per_rad is not None:
+            return self.torsional_nm_per_rad
+        return self.shear_modulus * self.polar_moment_m4 / self.length_m  # type: ignore[operator]
 
 
 class DynamicsSimulation(_M):
@@ -183,7 +264,14 @@ def check_dynamics(cfg: object) -> list[str]:
     for i, r in enumerate(dy.rotors):
         if r.name in links or rotors.count(r.name) > 1:
             problems.append(f"dynamics.rotors[{i}].name: '{r.name}' is already a link or rotor")
+    shaft_names = [sh.name for sh in dy.shafts]
     for i, sh in enumerate(dy.shafts):
+        if sh.a == sh.b:
+            problems.append(f"dynamics.shafts[{i}] '{sh.name}'.b: the shaft joins '{sh.a}' to "
+                            "itself (a and b must be two different bodies)")
+        if sh.is_fe and shaft_names.count(sh.name) > 1:
+            problems.append(f"dynamics.shafts[{i}].name: '{sh.name}' is used by another shaft "
+                            "(an FE shaft names its nodes '<name>.n<i>': names must be unique)")
         for side in ("a", "b"):
             name = getattr(sh, side)
             if name not in bodies and not (side == "b" and name == frame):

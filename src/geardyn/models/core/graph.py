@@ -43,6 +43,7 @@ from geardyn.kinematics.graph import GearMesh, MechanismGraph
 from geardyn.kinematics.willis import KinematicAnalysis, analyze_graph
 from geardyn.models.core.assembly import Assembly, RankOne
 from geardyn.models.core.blanks import Blank, contact_ratio, disc_blank, wheel_blank
+from geardyn.models.core.fe_shafts import add_shaft_nodes, inner_node_count, stamp_fe_shaft
 from geardyn.models.core.lateral import (
     LateralBody,
     add_lateral_mass,
@@ -320,7 +321,7 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
     rotors = list(spec.rotors)
     layout = (lateral_layout(tree, phi, graph, n_links + len(rotors)) if spec.lateral
               else {})
-    n = n_links + len(rotors) + 2 * len(layout)
+    n = n_links + len(rotors) + 2 * len(layout) + inner_node_count(spec.shafts)
     pmap = velocity_map(tree, phi, graph, n)
     idx = {x: i for i, x in enumerate(graph.links)}
     qdot = np.array([[(np.exp(-1j * phi[x]) * (omega0[idx[x], c] - omega0[idx[p], c])).real
@@ -340,6 +341,7 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
         asm.add_dofs(r.name, ["theta"], [r.inertia_kgm2])
     for lb in layout.values():
         asm.add_dofs(lb.link, ["x", "y"] if lb.kind == "fixed" else ["zeta", "eta"])
+    add_shaft_nodes(asm, spec.shafts)  # FE shaft inner nodes <shaft>.n<i>.theta (fe_shafts.py)
     # mass: one inertia block per link (module docstring)
     bodies: dict[str, Body] = {}
     for i, (link, p) in enumerate(tree):
@@ -367,6 +369,9 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
     for sh in spec.shafts:
         ha = bodies[sh.a].rotation
         hb = np.zeros(n) if sh.b == graph.frame else bodies[sh.b].rotation
+        if sh.is_fe:
+            stamp_fe_shaft(asm, sh, ha, hb, lateral=bool(layout))
+            continue
         asm.add_rank_one(Spring(sh.name, "support" if sh.b == graph.frame else "shaft",
                                 sh.torsional_nm_per_rad, ha - hb, sh.damping_nms_per_rad))
     meshes = _meshes(graph, kin, pmap, phi, sizes, blanks, spec.mesh_damping_ratio,
