@@ -109,7 +109,10 @@ def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa
         if of not in model.bodies:
             raise InputError(f"--speed-of: unknown body '{of}' (one of "
                              f"{', '.join(model.bodies)})")
-        cd = core_campbell(model, of, rad, n_modes).copy()
+        try:
+            cd = core_campbell(model, of, rad, n_modes).copy()
+        except InputError as exc:
+            raise InputError(f"--campbell: {str(exc).removeprefix('campbell: ')}") from None
     cd = cd.assign_coords(speed=("speed", speeds, {"units": unit}))
     cd.attrs.update({"units": "Hz", "speed_units": unit, "speed_of": of})
     cd.attrs.pop("carrier_speed_units", None)

@@ -91,8 +91,9 @@ def run_and_write(cfg, config: Path, out: Path | None, *, model: str | None = No
         if kind != "transmission":
             raise InputError("--plots: IAS figures are written for the FE transmission only "
                              f"(this run is the {kind} model)")
-        if not plots.is_dir():
-            raise InputError(f"--plots: directory '{plots}' does not exist")
+        if plots.exists() and not plots.is_dir():
+            raise InputError(f"--plots: '{plots}' is a file, expected a directory (created if "
+                             "missing)")
         if shaft not in [s.name for s in cfg.transmission.shafts]:
             raise InputError(f"--shaft: unknown shaft '{shaft}' (one of "
                              f"{', '.join(s.name for s in cfg.transmission.shafts)})")
