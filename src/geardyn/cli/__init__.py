@@ -26,10 +26,11 @@ COMMANDS: dict[str, tuple[str, str]] = {
                    "Degrees of freedom, carriers, velocity ratios and characteristic frequencies."),
     "stiffness": ("geardyn.cli.stiffness",
                   "Gear-pair geometry and potential-energy mesh stiffness."),
-    "modes": ("geardyn.cli.modes", "Natural frequencies and mode types of the planetary model."),
+    "modes": ("geardyn.cli.modes", "Natural frequencies, mode types and Campbell table of the "
+              "config's dynamic model (planetary, mechanism, FE)."),
     "simulate": ("geardyn.cli.simulate", "Time simulation of the config's dynamic model."),
     "transmission": ("geardyn.cli.transmission",
-                     "Modes and time simulation of the FE transmission (seed 002)."),
+                     "Alias of `simulate` for the FE transmission (seed 002), modes first."),
     "analyze": ("geardyn.cli.analyze",
                 "Order spectrum, spectrogram, TSA, cepstrum and indicators of a signal."),
     "diagnose": ("geardyn.cli.diagnose",
