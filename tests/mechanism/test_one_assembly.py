@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from geardyn.config.loader import parse_config
+from geardyn.errors import ConfigError
 from geardyn.models.core import model_from_config
 from geardyn.models.core.assembly import Assembly, RankOne
 from geardyn.models.core.system import linear_system
@@ -204,5 +205,11 @@ def test_linear_system_from_an_assembly_by_hand():
     np.testing.assert_array_equal(sys.gyro_k[0], np.diag([2.0, 2.0]))
     np.testing.assert_array_equal(sys.gyro_rate[0], [0.0, 0.5])
     assert sys.springs.a.shape == (1, 2)
-    with pytest.raises(Exception, match="unknown DOF 'a.z'"):
+    with pytest.raises(ConfigError, match="support_damping: unknown DOF 'a.z'"):
         linear_system(asm, support_damping={"a.z": 1.0})
+    with pytest.raises(ConfigError, match="rotating frame 'c' is defined twice"):
+        asm.add_frame("c", np.zeros(2))
+    with pytest.raises(ValueError, match="unknown rotating frame 'd'"):
+        asm.add_block("e", "rotating_frame", [0], frame="d", G=np.zeros((1, 1)))
+    with pytest.raises(ValueError, match="map of 3 columns for 2 DOFs"):
+        asm.add_mapped("e", "inertia", np.ones((1, 3)), M=np.eye(1))
