@@ -163,6 +163,11 @@ class ExternalLoadConfig(_Strict):
 
 class TransmissionConfig(_Strict):
     modal_damping: float = Field(0.01, ge=0, lt=1)
+    modal_damping_cutoff_hz: float | None = Field(
+        None, gt=0, description="modal damping exactly on the modes below this frequency, "
+        "stiffness-proportional (ratio ζ f/f_c) above it: no dense n² product in the time "
+        "step (default: every mode, dense product)"
+    )
     mass: Literal["consistent", "lumped"] = Field(
         "consistent", description="shaft-element mass matrix: consistent, or lumped (HRZ "
         "diagonal: diagonal M⁻¹ and a √3 longer stable explicit step)"

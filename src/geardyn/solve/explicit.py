@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -124,21 +125,134 @@ def csr(A: np.ndarray) -> tuple:
     return (A[rows, cols].copy(), cols.astype(np.int64), np.cumsum(ptr).astype(np.int64))
 
 
+class ModalDamping(NamedTuple):
+    """Modal damping without the dense n² product (:func:`modal_damping`):
+    C = β K_lin + B diag(w) Bᵀ, B = M Φ_r over the modes Φ_r below the cutoff."""
+
+    stiffness: np.ndarray
+    """β K_lin (n × n, sparse like K_lin), β = 2ζ/ω_c."""
+    basis: np.ndarray
+    """B = M Φ_r (n × r), mass-normalised modes below the cutoff."""
+    weights: np.ndarray
+    """w_i = 2ζω_i − βω_i² of the retained modes (r)."""
+    ratios: np.ndarray
+    """Damping ratio of every mode of (M, K_lin), ascending frequency (n)."""
+    frequencies_hz: np.ndarray
+    """Undamped frequencies of (M, K_lin) [Hz] (n)."""
+
+
+def modal_damping(M: np.ndarray, K_lin: np.ndarray, zeta: float, cutoff_hz: float
+                  ) -> ModalDamping:
+    """Modal damping ratio ``zeta`` on every elastic mode of (M, K_lin) below ``cutoff_hz``
+    (exactly, as C = M Φ diag(2ζω) Φᵀ M of seed 002 §2.1 does), and the stiffness-proportional
+    ratio ζ ω/ω_c (≥ ζ) above it, rigid modes (< 0.5 Hz) undamped.
+
+    C = β K_lin + M Φ_r diag(2ζω_r − βω_r²) Φ_rᵀ M with β = 2ζ/ω_c: Φ diagonalises both
+    terms, so mode i gets 2ζ_iω_i = βω_i² (+ 2ζω_i − βω_i² if retained). The product C v costs
+    nnz(K_lin) + 2 n r instead of n² (r = modes below the cutoff)."""
+    from scipy.linalg import eigh
+
+    if not (math.isfinite(cutoff_hz) and cutoff_hz > 0):
+        raise InputError(f"modal damping cutoff must be a finite frequency > 0 Hz (got "
+                         f"{cutoff_hz})")
+    w2, phi = eigh(K_lin, M)
+    w = np.sqrt(np.clip(w2, 0.0, None))
+    f = w / (2 * math.pi)
+    wc = 2 * math.pi * cutoff_hz
+    beta = 2.0 * zeta / wc
+    keep = (f >= 0.5) & (f < cutoff_hz)
+    basis = np.ascontiguousarray(M @ phi[:, keep])
+    weights = 2.0 * zeta * w[keep] - beta * w[keep] ** 2
+    ratios = np.where(f < 0.5, 0.0, np.where(keep, zeta, 0.5 * beta * w))
+    S = beta * 0.5 * (K_lin + K_lin.T)
+    return ModalDamping(S, basis, weights, ratios, f)
+
+
+def linear_args(K: np.ndarray, C: np.ndarray | ModalDamping) -> tuple[tuple, tuple]:
+    """Loop arguments of the linear forces K q + C v (:func:`_linear_forces`): the union of
+    the sparsity patterns in CSC (row indices, column pointers, K values, values of C's sparse
+    part, empty without one; K and that part are symmetric, so CSC = CSR), and (Bᵀ, B, w,
+    work, dense C, C v, work). ``C`` a dense matrix: the plain product (empty low-rank part);
+    a :class:`ModalDamping`: sparse + low rank, no dense C."""
+    K = np.asarray(K, dtype=float)
+    n = K.shape[0]
+    if isinstance(C, ModalDamping):
+        S = np.asarray(C.stiffness, dtype=float)
+        rows, cols = np.nonzero((K != 0.0) | (S != 0.0))
+        bdat = S[rows, cols].copy()
+        B = np.ascontiguousarray(C.basis, dtype=float)
+        BT, w, Cd = np.ascontiguousarray(B.T), np.asarray(C.weights, float), np.zeros((0, 0))
+    else:
+        rows, cols = np.nonzero(K)
+        bdat = np.zeros(0)
+        B, BT, w = np.zeros((n, 0)), np.zeros((0, n)), np.zeros(0)
+        Cd = np.ascontiguousarray(C, dtype=float)
+    # CSC: column j lists the rows i of its entries (np.nonzero is row-major: sort by column)
+    o = np.lexsort((rows, cols))
+    rows, cols = rows[o], cols[o]
+    bdat = bdat[o] if bdat.size else bdat
+    ptr = np.zeros(n + 1, np.int64)
+    np.add.at(ptr, cols + 1, 1)
+    return ((rows.astype(np.int64), np.cumsum(ptr).astype(np.int64), K[rows, cols].copy(),
+             bdat), (BT, B, w, np.zeros(w.size), Cd, np.zeros(n), np.zeros(n)))
+
+
+def csc(A: np.ndarray) -> tuple:
+    """(data, row indices, column pointers) of the non-zeros of dense ``A``, for
+    :func:`_csc_matvec`."""
+    return csr(np.asarray(A, dtype=float).T)
+
+
 @njit(cache=True)
-def _csr_matvec(data, idx, ptr, x, out, sign):  # pragma: no cover - compiled
-    """out += sign · A x (A in CSR)."""
-    for i in range(ptr.size - 1):
-        acc = 0.0
-        for j in range(ptr[i], ptr[i + 1]):
-            acc += data[j] * x[idx[j]]
-        out[i] += sign * acc
+def _csc_matvec(data, idx, ptr, x, out):  # pragma: no cover - compiled
+    """out += A x (A in CSC: column form, no serial reduction chain)."""
+    for j in range(ptr.size - 1):
+        xj = x[j]
+        for p in range(ptr[j], ptr[j + 1]):
+            out[idx[p]] += data[p] * xj
+
+
+@njit(cache=True)
+def _linear_forces(q, v, f, cw, idx, ptr, kdat, bdat, BT, B, w, y, Cd, tmp
+                   ):  # pragma: no cover - compiled
+    """f −= K q + C v and ``cw`` = C v (see :func:`linear_args`): one pass over K (CSC), or
+    over the common sparsity pattern of K and the sparse part of C (both symmetric), then the
+    low-rank modal part B diag(w) Bᵀ v, or the dense C of the plain modal damping."""
+    n = q.size
+    if bdat.size == 0:  # K only, column form (axpy): no serial reduction chain
+        for j in range(n):
+            qj = q[j]
+            for p in range(ptr[j], ptr[j + 1]):
+                f[idx[p]] -= kdat[p] * qj
+    else:
+        for i in range(n):  # K and C's sparse part on their common pattern (symmetric)
+            ak = 0.0
+            ac = 0.0
+            for p in range(ptr[i], ptr[i + 1]):
+                c = idx[p]
+                ak += kdat[p] * q[c]
+                ac += bdat[p] * v[c]
+            f[i] -= ak
+            cw[i] = ac
+    r = w.size
+    if r > 0:  # BLAS matrix-vector products into work arrays (no allocation)
+        np.dot(BT, v, y)
+        for k in range(r):
+            y[k] *= w[k]
+        np.dot(B, y, tmp)
+        for i in range(n):
+            cw[i] += tmp[i]
+    if Cd.shape[0] > 0:
+        np.dot(Cd, v, cw)
+    for i in range(n):
+        f[i] -= cw[i]
 
 
 @njit(cache=True)
 def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, a, hdt
            ):  # pragma: no cover
-    """``a`` = M⁻¹ (F_ext + F_connecting − K q − C v − Σ Ω G v_g); ``Minv`` and ``K`` in CSR;
-    on entry ``a`` holds the previous acceleration.
+    """``a`` = M⁻¹ (F_ext + F_connecting − K q − C v − Σ Ω G v_g); ``Minv`` in CSC, ``K`` and
+    ``C`` as built by :func:`linear_args`; on entry ``a`` holds the previous acceleration.
 
     Gyroscopic terms: v_g is the end-of-step velocity v + hdt (a_new − a_old) (``v`` the
     predicted one, ``hdt`` = dt/2), solved by fixed-point iteration (contraction ≈ Ω dt ≪ 1),
@@ -150,13 +264,12 @@ def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, 
         f += fx
     bearing_forces(q, v, f, diss, *bargs, bl)
     mesh_forces(q, v, f, diss, *margs, mf)
-    _csr_matvec(K[0], K[1], K[2], q, f, -1.0)
-    cv = C @ v
-    f -= cv
-    diss[4] += v @ cv
+    cw = C[5]
+    _linear_forces(q, v, f, cw, *K, *C[:5], C[6])
+    diss[4] += v @ cw
     if gargs[0].size == 0:
         a[:] = 0.0
-        _csr_matvec(Minv[0], Minv[1], Minv[2], f, a, 1.0)
+        _csc_matvec(Minv[0], Minv[1], Minv[2], f, a)
         return
     n = f.size
     a_old = a.copy()
@@ -166,7 +279,7 @@ def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, 
         fg[:] = f
         gyroscopic_forces(vg, fg, *gargs)
         a[:] = 0.0
-        _csr_matvec(Minv[0], Minv[1], Minv[2], fg, a, 1.0)
+        _csc_matvec(Minv[0], Minv[1], Minv[2], fg, a)
         dmax = 0.0
         vmax = 0.0
         for j in range(n):
@@ -190,7 +303,7 @@ def start_loop(
     n = q.size
     f = np.zeros(n)
     t = 0.0
-    wr = np.interp(t, t_ref, w_ref)
+    wr = _interp(t, t_ref, w_ref)
     err = wr - ref_sign_speed(v, ref_dof, ref_sign)
     td = t0_drive + kp * err + ki * integ0
     fext[:] = 0.0
@@ -241,10 +354,9 @@ def run_chunk(
         for j in range(n):
             vh[j] = v[j] + 0.5 * dt * a[j]
             q[j] += dt * vh[j]
-        t += dt
-        for j in range(n):
             vp[j] = vh[j] + 0.5 * dt * a[j]
-        wr = np.interp(t, t_ref, w_ref)
+        t += dt
+        wr = _interp(t, t_ref, w_ref)
         err = wr - ref_sign_speed(vp, ref_dof, ref_sign)
         integ += err * dt
         td = t0_drive + kp * err + ki * integ
@@ -254,8 +366,13 @@ def run_chunk(
             applied_loads(q, vp, a, t, fx, *xargs)
         _accel(q, vp, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, a,
                0.5 * dt)
+        ok = True
+        j6 = 0
         for j in range(n):
             v[j] = vh[j] + 0.5 * dt * a[j]
+            if abs(a[j]) > 1e30 or (j6 < 5 and abs(q[j]) > max_disp):
+                ok = False
+            j6 = 0 if j6 == 5 else j6 + 1
         p_in1 = fext[drive_dof] * v[drive_dof]
         p_out1 = -fext[load_dof] * v[load_dof]
         energy[E_IN] += 0.5 * dt * (p_in0 + p_in1)
@@ -269,10 +386,6 @@ def run_chunk(
         sc[2] = td
         if not (abs(q[ref_dof]) < 1e12):
             return step, 1
-        ok = True
-        for j in range(n):
-            if abs(a[j]) > 1e30 or (j % 6 < 5 and abs(q[j]) > max_disp):
-                ok = False
         if not ok:
             return step, 1
     return step1, 0
@@ -291,6 +404,23 @@ def record(rec, ir, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm):  # pragma: no co
             rec[ir, 2 + 2 * nd + c * nb + j] = bl[j, c]
     for j in range(nm):
         rec[ir, 2 + 2 * nd + 3 * nb + j] = mf[j]
+
+
+@njit(cache=True)
+def _interp(x, xp, fp):  # pragma: no cover - compiled
+    """np.interp of a scalar (same formula, no array temporaries): ``xp`` ascending."""
+    n = xp.size
+    if x <= xp[0]:
+        return fp[0]
+    if x >= xp[n - 1]:
+        return fp[n - 1]
+    j = 0
+    while xp[j + 1] <= x:
+        j += 1
+    if x == xp[j]:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    return slope * (x - xp[j]) + fp[j]
 
 
 @njit(cache=True)
@@ -319,11 +449,13 @@ def run_loop(
 ) -> tuple:
     """Integrate ``n_steps`` steps in chunks; returns (records, energy, steps done, status, q,
     v, ∫e). status 0 ok, 1 diverged, 2 stopped by ``control`` (the records cover the steps
-    done). ``control.resume`` continues a checkpointed run of the same setup. ``gargs``:
+    done). ``C``: dense damping matrix or :class:`ModalDamping`. ``control.resume`` continues
+    a checkpointed run of the same setup. ``gargs``:
     :func:`gyroscopic_args` (default none); ``xargs``: applied loads (see
     :func:`applied_loads`; default none). Energy channels: see ``E_IN`` … ``E_EXT``."""
     gargs = gargs if gargs is not None else no_gyroscopic()
-    Minv, K = csr(Minv), csr(K)
+    Minv = csc(Minv)
+    K, C = linear_args(K, C)
     xargs = xargs if xargs is not None else no_loads()
     nx = xargs[0].size + xargs[3].size
     ctl = control or RunControl()
@@ -341,6 +473,8 @@ def run_loop(
     run_id = {"scheme": "verlet", "nsteps": int(n_steps), "dt": float(dt),
               "rec_every": int(rec_every), "n": int(n), "ncols": int(rec.shape[1]),
               "gyroscopic": int(gargs[0].size), "loads": int(nx)}
+    if C[2].size:
+        run_id["damping_modes"] = int(C[2].size)
     if ctl.resume is not None:
         done = _resume(ctl.resume, run_id, st, rec)
     else:

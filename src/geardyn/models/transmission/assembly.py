@@ -251,7 +251,7 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
             s.outer_diameter_m, s.inner_diameter_m, s.youngs_modulus_pa, s.poisson_ratio,
             s.density_kg_m3,
         )
-        ke, me = timoshenko_element(s.length_m / s.elements, sec)
+        ke, me = timoshenko_element(s.length_m / s.elements, sec, t.mass)
         ge = timoshenko_gyroscopic(s.length_m / s.elements, sec)
         for e in range(s.elements):
             dofs = node_dofs(s.name, e) + node_dofs(s.name, e + 1)

@@ -110,6 +110,22 @@ def prepare(model: TransmissionModel, reference_shaft: str | None = None) -> Pre
     return Prepared(model, q0, K_lin, C, f, dt, speed_ratios(model, ref))
 
 
+def damping_operator(prep: Prepared, cutoff_hz: float | None
+                     ) -> tuple[np.ndarray | explicit.ModalDamping, float]:
+    """Damping of the loop and the explicit stability limit [s]: without a cutoff the dense
+    modal damping matrix ``prep.C`` and ``prep.dt_stable``; with one,
+    :func:`geardyn.solve.explicit.modal_damping` (ratio ζ below the cutoff, ζ f/f_c above) and
+    the limit of the damped central-difference scheme, (2/ω_max)(√(1+ξ²) − ξ) with ξ the
+    ratio of the highest mode (Belytschko, Liu & Moran, *Nonlinear Finite Elements for
+    Continua and Structures*, 2000, §6.3)."""
+    if cutoff_hz is None:
+        return prep.C, prep.dt_stable
+    m = prep.model
+    op = explicit.modal_damping(m.M, prep.K_lin, m.modal_damping, cutoff_hz)
+    xi = float(op.ratios[-1])
+    return op, prep.dt_stable * (math.sqrt(1.0 + xi * xi) - xi)
+
+
 def simulate(
     cfg,  # noqa: ANN001 - GeardynConfig
     revolutions: float | None = None,
@@ -157,12 +173,13 @@ def simulate(
     else:
         w0 = w1 = t.simulation.initial_rpm * math.pi / 30
         duration = t.simulation.duration_s
-    dt = t.simulation.time_step_s or 0.8 * prep.dt_stable
+    damping, dt_limit = damping_operator(prep, getattr(t, "modal_damping_cutoff_hz", None))
+    dt = t.simulation.time_step_s or 0.8 * dt_limit
     if check_step:
         check_time_step(dt, "transmission.simulation.time_step_s" if t.simulation.time_step_s
                         else "transmission.simulation.time_step_s (default: 0.8 × stability "
                         "limit)", mesh_period_s=_mesh_period(model, ratios, max(abs(w0), abs(w1))),
-                        stable_limit_s=prep.dt_stable)
+                        stable_limit_s=dt_limit)
     n_steps = int(math.ceil(duration / dt))
     rec_every = max(1, int(round(1.0 / (t.simulation.record_rate_hz * dt))))
     # rigid-body initial speeds on θz
@@ -193,7 +210,7 @@ def simulate(
     Minv = np.linalg.inv(model.M)
     t1 = _time.perf_counter()
     rec, energy, n_done, status, q, vend, _ = explicit.run_loop(
-        prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, prep.C,
+        prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, damping,
         model.bearings.args(), model.meshes.args(),
         6 * model.drive_node + 5, 6 * model.load_node + 5, 6 * ref_node + 5,
         model.node_sign(model.drive_node), model.node_sign(model.load_node),
