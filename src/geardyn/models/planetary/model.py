@@ -24,6 +24,12 @@ Reductions (seed 003 model B, seed 004 ``cd`` = 1/2) are linear constraints q_fu
 ``torsional`` keeps the u DOF (central x, y and planet ζ fixed; planet η follows the carrier,
 η = u_c, i.e. rigid planet bearings, which puts N m_p on the carrier, seed 003 eq 4.2);
 ``transverse`` keeps x, y, ζ, η. Matrices and deflection vectors are transformed with T.
+
+The model is a builder on the shared :class:`~geardyn.models.core.assembly.Assembly`: the
+bodies' DOFs with their masses, every spring a rank-one element (:class:`Spring` keeps the
+stage, body, planet and bin labels), and one rotating frame per stage (the carrier's) whose
+blocks hold the G and K_Ω of the stage's members; the integrator system comes from
+:func:`geardyn.models.core.system.linear_system` (``dynamics.build_system``).
 """
 
 from __future__ import annotations
