@@ -269,6 +269,32 @@ def test_mesh_stiffness_from_the_gear_geometry_pe_table():
     assert null[0, 0] / null[1, 0] == pytest.approx(-67 / 23, rel=1e-12)
 
 
+def test_helical_pair_from_the_gear_geometry_uses_transverse_base_radii():
+    """A helical [[gear_geometry]] pair (β = 20°): the torsional mesh row uses the transverse
+    base radii r_b = m_n z cos α_t / (2 cos β), tan α_t = tan α_n / cos β (ISO 21771), the same
+    as the involute geometry of geardyn.gears (the PE table is along the transverse line of
+    action), and the torsional frequency is √(k̄ (r_ba²/J_a + r_bb²/J_b))."""
+    from geardyn.config.gears import pair_model
+
+    d = _pair("parallel", 23, 67)
+    d["dynamics"]["meshes"] = [{"pair": "p", "model": "gear_geometry"}]
+    d["gear_geometry"] = [{"pair": "p", "normal_module_m": 0.003, "face_width_m": 0.03,
+                           "helix_angle_deg": 20.0}]
+    cfg = parse_config(d)
+    model = model_from_config(cfg)
+    mesh = model.meshes[0]
+    beta, an = math.radians(20.0), math.radians(20.0)
+    at = math.atan(math.tan(an) / math.cos(beta))
+    rb = [0.003 * z * math.cos(at) / (2 * math.cos(beta)) for z in (23, 67)]
+    assert (mesh.base_radius_a, mesh.base_radius_b) == pytest.approx(rb, rel=1e-12)
+    g = pair_model(cfg, "p").geometry
+    assert (mesh.base_radius_a, mesh.base_radius_b) == pytest.approx(g.base_radius, rel=1e-12)
+    ja, jb = (model.body(x).inertia for x in (mesh.link_a, mesh.link_b))
+    w2 = sla.eigh(model.stiffness_matrix(), model.mass_matrix(), eigvals_only=True)
+    assert w2.max() == pytest.approx(mesh.k_mean * (rb[0] ** 2 / ja + rb[1] ** 2 / jb),
+                                     rel=1e-9)
+
+
 MS, MC, MR = 0.4, 5.43, 2.35  # kg (Lin & Parker style stage of examples/planetary_lin_parker)
 KB, KPB, KRT = 1e8, 2e8, 7.462e6
 

@@ -460,8 +460,12 @@ def model_from_config(cfg: object, inputs: Sequence[str] | None = None) -> CoreM
 
         for m in graph.meshes:
             e = next((e for e in entries if _matches(e.pair, m.name, m.stage)), None)
-            if e is not None:
-                geometry[m.name] = (e.normal_module_m, e.normal_pressure_angle_deg,
+            if e is not None:  # transverse module and pressure angle: the PE table and the
+                # base radii are in the transverse plane (helical pairs, m_t = m_n / cos β)
+                beta = math.radians(e.helix_angle_deg)
+                alpha_t = math.atan(math.tan(math.radians(e.normal_pressure_angle_deg))
+                                    / math.cos(beta))
+                geometry[m.name] = (e.normal_module_m / math.cos(beta), math.degrees(alpha_t),
                                     e.face_width_m)
     wanted = {m.name for m in graph.meshes
               if _pair_size(m, spec).settings.model == "gear_geometry"}
