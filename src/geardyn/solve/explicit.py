@@ -428,6 +428,18 @@ def ref_sign_speed(v, ref_dof, sign):  # pragma: no cover - compiled
     return sign * v[ref_dof]
 
 
+def damped_step_limit(xi: float) -> float:
+    """Largest ω dt for which this loop's step is stable on a mode with damping ratio ``xi``:
+    2(√(1+4ξ²) − 2ξ). The damping force uses the predicted velocity v + dt a, so the limit is
+    the central-difference one 2(√(1+ξ²) − ξ) (Belytschko, Liu & Moran, *Nonlinear Finite
+    Elements for Continua and Structures*, 2000, §6.3) with the ratio doubled (derived from
+    the spectral radius of the one-mode amplification matrix of (q, v, a); checked in
+    tests/transmission/test_modal_damping.py): 1.64 at ξ = 0.1, 0.83 at ξ = 0.5, 2 undamped."""
+    if not (math.isfinite(xi) and xi >= 0):
+        raise InputError(f"damping ratio must be a finite number ≥ 0 (got {xi})")
+    return 2.0 * (math.sqrt(1.0 + 4.0 * xi * xi) - 2.0 * xi)
+
+
 def stable_time_step(M: np.ndarray, K_lin: np.ndarray) -> float:
     """2/ω_max of the linearised undamped system."""
     from scipy.linalg import eigh

@@ -113,17 +113,16 @@ def prepare(model: TransmissionModel, reference_shaft: str | None = None) -> Pre
 def damping_operator(prep: Prepared, cutoff_hz: float | None
                      ) -> tuple[np.ndarray | explicit.ModalDamping, float]:
     """Damping of the loop and the explicit stability limit [s]: without a cutoff the dense
-    modal damping matrix ``prep.C`` and ``prep.dt_stable``; with one,
+    modal damping matrix ``prep.C`` and ``prep.dt_stable`` = 2/ω_max; with one,
     :func:`geardyn.solve.explicit.modal_damping` (ratio ζ below the cutoff, ζ f/f_c above) and
-    the limit of the damped central-difference scheme, (2/ω_max)(√(1+ξ²) − ξ) with ξ the
-    ratio of the highest mode (Belytschko, Liu & Moran, *Nonlinear Finite Elements for
-    Continua and Structures*, 2000, §6.3)."""
+    the loop's damped limit :func:`geardyn.solve.explicit.damped_step_limit` (ξ) / ω_max for
+    the ratio ξ of the highest mode (it binds: ξ grows with ω)."""
     if cutoff_hz is None:
         return prep.C, prep.dt_stable
     m = prep.model
     op = explicit.modal_damping(m.M, prep.K_lin, m.modal_damping, cutoff_hz)
     xi = float(op.ratios[-1])
-    return op, prep.dt_stable * (math.sqrt(1.0 + xi * xi) - xi)
+    return op, prep.dt_stable * 0.5 * explicit.damped_step_limit(xi)
 
 
 def simulate(
