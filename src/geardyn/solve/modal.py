@@ -1,6 +1,7 @@
 """Modal analysis of lumped-parameter models (seed 003 ch. 3; Lin & Parker 1999).
 
-- :func:`modes` solves ω² M φ = K φ (seed 003 eq 3.27), mass-normalised φ, frequencies in Hz.
+- :func:`modes` solves ω² M φ = K φ (seed 003 eq 3.27), mass-normalised φ, frequencies in Hz
+  (generic solver and energies: :mod:`geardyn.solve.eigen`, shared by every model).
 - Degenerate frequencies are grouped (multiplicity) and each mode is classified from its
   shape as in Lin & Parker (1999): *rotational* (central members only rotate, all planets move
   alike), *translational* (central members only translate), *planet* (central members at
@@ -17,11 +18,12 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.linalg as sla
 import xarray as xr
 
 from geardyn.errors import InputError
 from geardyn.models.planetary.model import PlanetaryModel
+from geardyn.solve.eigen import campbell as eigen_campbell
+from geardyn.solve.eigen import eigenmodes, kinetic_energy, participation, strain_rank_one
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -120,16 +122,6 @@ class ModalResult:
         return plot_mode_energies(self.freq_hz[keep], np.nonzero(keep)[0] + 1, tables, ax)
 
 
-def _groups(freq: np.ndarray, rtol: float, atol: float) -> list[list[int]]:
-    groups: list[list[int]] = []
-    for i, f in enumerate(freq):
-        if groups and abs(f - freq[groups[-1][0]]) <= max(atol, rtol * abs(f)):
-            groups[-1].append(i)
-        else:
-            groups.append([i])
-    return groups
-
-
 def _classify(model: PlanetaryModel, phi: np.ndarray, tol: float = 1e-3) -> str:
     """Lin & Parker mode type of a subspace ``phi`` (full coordinates, columns)."""
     m = model.mass_diag
@@ -172,38 +164,29 @@ def modes(
     """Natural frequencies, shapes, multiplicities, types and energies (seed 003 eqs 3.27-3.29).
 
     ``rtol``/``atol_hz`` decide when frequencies are degenerate; modes below ``zero_hz`` are
-    rigid-body modes.
+    rigid-body modes (0 Hz). Generic part: :func:`geardyn.solve.eigen.eigenmodes`.
     """
     mm = model.mass_matrix()
-    kk = model.stiffness_matrix()
-    w2, phi = sla.eigh(kk, mm)
-    w2 = np.where(w2 < 0, 0.0, w2)
-    freq = np.sqrt(w2) / (2 * np.pi)
+    em = eigenmodes(mm, model.stiffness_matrix(), zero_hz=zero_hz, rtol=rtol, atol_hz=atol_hz)
+    freq, phi = em.freq_hz, em.shapes
     t = model.transform
-    mult = np.ones(len(freq), int)
     types = [""] * len(freq)
-    for g in _groups(freq, rtol, atol_hz):
-        for i in g:
-            mult[i] = len(g)
-        kind = "rigid" if freq[g[0]] < zero_hz else _classify(model, t @ phi[:, g])
+    for g in em.groups:
+        kind = "rigid" if em.rigid[g[0]] else _classify(model, t @ phi[:, g])
         for i in g:
             types[i] = kind
-    w2v = (2 * np.pi * freq) ** 2
-    kinetic = 0.5 * w2v[:, None] * (phi * (mm @ phi)).T
-    a = model.spring_vectors()
     kvec = np.array([s.k for s in model.springs])
-    strain = 0.5 * kvec[None, :] * (a @ phi).T ** 2
     return ModalResult(
         freq,
         phi,
-        mult,
+        em.multiplicity,
         types,
-        kinetic,
-        strain,
+        kinetic_energy(mm, freq, phi),
+        strain_rank_one(phi, model.spring_vectors(), kvec),
         model.names,
         [s.name for s in model.springs],
         [s.bin for s in model.springs],
-        (phi * (mm @ phi)).T,
+        participation(mm, phi),
     )
 
 
@@ -211,27 +194,15 @@ def campbell(model: PlanetaryModel, carrier_speeds_rad_s: np.ndarray, n_modes: i
              ) -> xr.DataArray:
     """Natural frequencies (Hz) vs carrier speed Ω with gyroscopic and centripetal terms.
 
-    Quadratic eigenproblem of seed 003 eq 3.1 (homogeneous part) solved in state-space form;
-    returns the ``n_modes`` lowest non-negative frequencies per speed.
+    Quadratic eigenproblem of seed 003 eq 3.1 (homogeneous part) solved in state-space form
+    (:func:`geardyn.solve.eigen.campbell`, every stage's frame at the carrier speed); returns
+    the ``n_modes`` lowest non-negative frequencies per speed.
     """
     mm = model.mass_matrix()
-    kk = model.stiffness_matrix()
-    g = model.gyroscopic_matrix()
-    ko = model.centripetal_matrix()
-    n = mm.shape[0]
-    n_modes = n_modes or n
-    out = np.full((len(carrier_speeds_rad_s), n_modes), np.nan)
-    minv = np.linalg.inv(mm)
-    for i, om in enumerate(carrier_speeds_rad_s):
-        a = np.zeros((2 * n, 2 * n))
-        a[:n, n:] = np.eye(n)
-        a[n:, :n] = -minv @ (kk - om**2 * ko)
-        a[n:, n:] = -minv @ (om * g)
-        ev = np.linalg.eigvals(a)
-        # undamped: eigenvalues ±iω in pairs (a rigid mode gives a double 0)
-        f = np.sort(np.abs(ev.imag))[::2] / (2 * np.pi)
-        f = f[:n_modes]
-        out[i, : len(f)] = f
+    n_modes = n_modes or mm.shape[0]
+    out = eigen_campbell(mm, model.stiffness_matrix(),
+                         [(1.0, model.gyroscopic_matrix(), model.centripetal_matrix())],
+                         carrier_speeds_rad_s, n_modes)
     return xr.DataArray(
         out,
         dims=("carrier_speed", "mode"),

@@ -15,41 +15,33 @@ import scipy.linalg as sla
 import xarray as xr
 
 from geardyn.models.core.model import CoreModel
+from geardyn.solve.eigen import campbell as eigen_campbell
+from geardyn.solve.eigen import eigenmodes, kinetic_energy, participation, strain_rank_one
 from geardyn.solve.modal import ModalResult
 
 
 def core_modes(model: CoreModel, rtol: float = 1e-6, atol_hz: float = 1e-3,
                zero_hz: float = 1e-2) -> ModalResult:
-    """Natural frequencies, shapes and energies of ``model`` (mean mesh stiffness)."""
+    """Natural frequencies, shapes and energies of ``model`` (mean mesh stiffness); generic
+    part :func:`geardyn.solve.eigen.eigenmodes`."""
     mm = model.mass_matrix()
-    kk = model.stiffness_matrix()
-    w2, phi = sla.eigh(kk, mm)
-    freq = np.sqrt(np.clip(w2, 0.0, None)) / (2 * np.pi)
-    freq[freq < zero_hz] = 0.0
-    mult = np.ones(len(freq), int)
-    start = 0
-    for i in range(1, len(freq) + 1):
-        if i == len(freq) or abs(freq[i] - freq[start]) > max(atol_hz, rtol * freq[i]):
-            mult[start:i] = i - start
-            start = i
-    w2v = (2 * np.pi * freq) ** 2
-    kinetic = 0.5 * w2v[:, None] * (phi * (mm @ phi)).T
-    share = (phi * (mm @ phi)).T  # mass-weighted participation per DOF, rows sum to 1
+    em = eigenmodes(mm, model.stiffness_matrix(), zero_hz=zero_hz, rtol=rtol, atol_hz=atol_hz)
+    freq, phi = em.freq_hz, em.shapes
+    share = participation(mm, phi)  # mass-weighted participation per DOF, rows sum to 1
     lateral = np.array([nm.endswith((".x", ".y", ".zeta", ".eta")) for nm in model.dof_names])
     types = []
-    for i, f in enumerate(freq):
+    for i in range(freq.size):
         lat = float(share[i, lateral].sum()) if lateral.any() else 0.0
-        types.append("rigid" if f == 0.0 else "torsional" if lat < 1e-3
+        types.append("rigid" if em.rigid[i] else "torsional" if lat < 1e-3
                      else "lateral" if lat > 1 - 1e-3 else "coupled")
     rows = [m.a for m in model.meshes] + [s.a for s in model.springs]
     k = np.array([m.k_mean for m in model.meshes] + [s.k for s in model.springs])
-    a = np.array(rows).reshape(len(rows), model.n)
-    strain = 0.5 * k[None, :] * (a @ phi).T ** 2
+    strain = strain_rank_one(phi, np.array(rows), k)
     names = [m.name for m in model.meshes] + [s.name for s in model.springs]
     bins = [f"mesh {m.name}" for m in model.meshes] + [f"{s.kind} {s.name}"
                                                           for s in model.springs]
-    return ModalResult(freq, phi, mult, types, kinetic, strain, list(model.dof_names), names,
-                       bins, (phi * (mm @ phi)).T)
+    return ModalResult(freq, phi, em.multiplicity, types, kinetic_energy(mm, freq, phi), strain,
+                       list(model.dof_names), names, bins, share)
 
 
 def core_campbell(model: CoreModel, body: str, speeds_rad_s: np.ndarray,
@@ -57,9 +49,9 @@ def core_campbell(model: CoreModel, body: str, speeds_rad_s: np.ndarray,
     """Natural frequencies (Hz) against the speed of ``body`` with the gyroscopic and
     centripetal terms of every carrier frame (lateral model; seed 003 eq 3.1, homogeneous part):
     M q̈ + Σ_c Ω_c G_c q̇ + (K − Σ_c Ω_c² K_Ω,c) q = 0 with Ω_c = r_c·q̇_rigid, the rigid-body
-    motion (kinematic, 1 DOF) in which ``body`` turns at the given speed. State-space form;
-    the ``n_modes`` lowest non-negative frequencies per speed (as :func:`geardyn.solve.modal.
-    campbell`)."""
+    motion (kinematic, 1 DOF) in which ``body`` turns at the given speed. State-space form
+    (:func:`geardyn.solve.eigen.campbell`); the ``n_modes`` lowest non-negative frequencies per
+    speed."""
     from geardyn.errors import InputError
 
     mm, kk = model.mass_matrix(), model.stiffness_matrix()
@@ -71,24 +63,10 @@ def core_campbell(model: CoreModel, body: str, speeds_rad_s: np.ndarray,
     if abs(h) < 1e-12:
         raise InputError(f"campbell: '{body}' does not turn in the rigid-body motion")
     rigid = null[:, 0] / h  # body at 1 rad/s
-    n = model.n
-    n_modes = n_modes or n
-    minv = np.linalg.inv(mm)
+    n_modes = n_modes or model.n
     speeds = np.asarray(speeds_rad_s, float)
-    out = np.full((len(speeds), n_modes), np.nan)
-    for i, w in enumerate(speeds):
-        g = np.zeros((n, n))
-        ko = np.zeros((n, n))
-        for rate, gg, kk_om in model.rotating:
-            om = float(rate @ rigid) * w
-            g += om * gg
-            ko += om * om * kk_om
-        a = np.zeros((2 * n, 2 * n))
-        a[:n, n:] = np.eye(n)
-        a[n:, :n] = -minv @ (kk - ko)
-        a[n:, n:] = -minv @ g
-        f = np.sort(np.abs(np.linalg.eigvals(a).imag))[::2] / (2 * np.pi)
-        out[i, : min(n_modes, len(f))] = f[:n_modes]
+    terms = [(float(rate @ rigid), g, k_om) for rate, g, k_om in model.rotating]
+    out = eigen_campbell(mm, kk, terms, speeds, n_modes)
     return xr.DataArray(out, dims=("speed", "mode"),
                         coords={"speed": speeds, "mode": np.arange(1, n_modes + 1)},
                         name="frequency", attrs={"units": "Hz", "speed_units": "rad/s",

@@ -15,7 +15,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import eigh
 
 from geardyn.bearings.hertz import ball_race_stiffness, reduced_modulus, roller_race_stiffness
 from geardyn.elements.beam import ShaftSection, timoshenko_element, timoshenko_gyroscopic
@@ -177,14 +176,12 @@ def modal_analysis(
     M: np.ndarray, K: np.ndarray, fixed: list[int] | np.ndarray = ()
 ) -> tuple[np.ndarray, np.ndarray]:
     """Natural frequencies (Hz, ascending) and mass-normalised mode shapes (full DOF size,
-    zeros on ``fixed`` DOFs) of the undamped system (gyroscopic terms neglected)."""
-    n = M.shape[0]
-    free = np.setdiff1d(np.arange(n), np.asarray(fixed, dtype=int))
-    w2, phi = eigh(K[np.ix_(free, free)], M[np.ix_(free, free)])
-    w2 = np.clip(w2, 0.0, None)
-    shapes = np.zeros((n, free.size))
-    shapes[free] = phi
-    return np.sqrt(w2) / (2 * math.pi), shapes
+    zeros on ``fixed`` DOFs) of the undamped system (gyroscopic terms neglected);
+    :func:`geardyn.solve.eigen.eigenmodes` without rigid-mode snapping."""
+    from geardyn.solve.eigen import eigenmodes
+
+    em = eigenmodes(M, K, fixed, zero_hz=0.0)
+    return em.freq_hz, em.shapes
 
 
 def modal_damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarray:
@@ -562,24 +559,20 @@ def campbell(
 ):  # noqa: ANN201 - xarray.DataArray
     """Campbell diagram: undamped whirl frequencies (Hz) of M q̈ + G(Ω) q̇ + K_lin q = 0 at the
     reference-shaft speeds ``speeds_rpm``, each shaft spinning at ``ratios[shaft]`` × the
-    reference speed in its own direction (gyroscopic terms of shafts and wheels).
+    reference speed in its own direction (gyroscopic terms of shafts and wheels;
+    :func:`geardyn.solve.eigen.campbell`).
 
-    Returns a DataArray (speed_rpm, mode) of the lowest ``n_modes`` non-zero frequencies."""
+    Returns a DataArray (speed_rpm, mode) of the lowest ``n_modes`` frequencies above 0.5 Hz
+    (the drive line's rigid-body rotation left out)."""
     import xarray as xr
 
-    n = model.ndof
-    minv = np.linalg.inv(model.M)
-    out = np.full((len(speeds_rpm), n_modes), np.nan)
-    for i, rpm in enumerate(np.asarray(speeds_rpm, dtype=float)):
-        om = rpm * math.pi / 30.0
-        G = sum(model.shaft_sign[s] * ratios[s] * om * g for s, g in model.gyroscopic.items())
-        A = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ K_lin, -minv @ G]])
-        lam = np.linalg.eigvals(A)
-        f = np.sort(lam.imag[lam.imag > 1e-6]) / (2 * math.pi)
-        f = f[f > 0.5][:n_modes]
-        out[i, : f.size] = f
+    from geardyn.solve.eigen import campbell as eigen_campbell
+
+    rpm = np.asarray(speeds_rpm, dtype=float)
+    terms = [(model.shaft_sign[s] * ratios[s], g, None) for s, g in model.gyroscopic.items()]
+    out = eigen_campbell(model.M, K_lin, terms, rpm * math.pi / 30.0, n_modes, min_hz=0.5)
     return xr.DataArray(
         out, dims=("speed_rpm", "mode"),
-        coords={"speed_rpm": np.asarray(speeds_rpm, dtype=float), "mode": np.arange(n_modes)},
+        coords={"speed_rpm": rpm, "mode": np.arange(n_modes)},
         name="frequency_hz", attrs={"units": "Hz"},
     )

@@ -16,7 +16,6 @@ preload) in the :class:`geardyn.solve.modal.ModalResult` form of the lumped mode
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 import xarray as xr
@@ -25,7 +24,6 @@ from geardyn.models.transmission.assembly import (
     NODE_DOFS,
     TransmissionModel,
     campbell,
-    modal_analysis,
 )
 
 #: Modes below this frequency [Hz] are the drive line's rigid-body rotation.
@@ -90,32 +88,21 @@ def element_tangents(model: TransmissionModel, q: np.ndarray, h: float = 1e-9
     return out
 
 
-def _multiplicity(f: np.ndarray, rtol: float = 1e-6) -> np.ndarray:
-    mult = np.ones(f.size, np.int64)
-    i = 0
-    while i < f.size:
-        j = i + 1
-        while j < f.size and abs(f[j] - f[i]) <= rtol * max(abs(f[i]), 1.0):
-            j += 1
-        mult[i:j] = j - i
-        i = j
-    return mult
-
-
 def fe_modes(model: TransmissionModel, prepared=None):  # noqa: ANN001, ANN201
     """Modes of the FE transmission linearised at the static preload (gyroscopic terms
     neglected), as a :class:`geardyn.solve.modal.ModalResult`; ``prepared``: the
-    :func:`~geardyn.models.transmission.simulate.prepare` result (computed if None)."""
+    :func:`~geardyn.models.transmission.simulate.prepare` result (computed if None). Generic
+    part :func:`geardyn.solve.eigen.eigenmodes` (degenerate within 1e-6 relative or 1e-6 Hz;
+    modes below :data:`RIGID_HZ` rigid, 0 Hz)."""
     from geardyn.models.transmission.simulate import prepare
+    from geardyn.solve.eigen import eigenmodes, kinetic_energy, participation, strain_blocks
     from geardyn.solve.modal import ModalResult
 
     prep = prepared if prepared is not None else prepare(model)
     M = model.M
-    f, phi = modal_analysis(M, prep.K_lin)
-    w = 2 * math.pi * f
-    mphi = M @ phi
-    frac = (phi * mphi).T  # (mode, dof), rows sum to 1 (mass-normalised)
-    kinetic = 0.5 * w[:, None] ** 2 * frac
+    em = eigenmodes(M, prep.K_lin, zero_hz=RIGID_HZ, rtol=1e-6, atol_hz=1e-6)
+    f, phi = em.freq_hz, em.shapes
+    frac = participation(M, phi)  # (mode, dof), rows sum to 1 (mass-normalised)
     names = model.dof_names
     labels = [n.rsplit(".", 1)[1] for n in names]
     groups = {g: np.array([MOTION[lab] == g for lab in labels]) for g in set(MOTION.values())}
@@ -126,13 +113,10 @@ def fe_modes(model: TransmissionModel, prepared=None):  # noqa: ANN001, ANN201
             if "K" in b.mats:
                 elements.append((b.name, b.dofs, b.mats["K"]))
     elements += element_tangents(model, prep.q0)
-    strain = np.zeros((f.size, len(elements)))
-    for j, (_, dofs, k) in enumerate(elements):
-        p = phi[dofs]
-        strain[:, j] = 0.5 * np.einsum("im,ij,jm->m", p, k, p)
+    strain = strain_blocks(phi, [(dofs, k) for _, dofs, k in elements])
     types = []
-    for i, fi in enumerate(f):
-        if fi < RIGID_HZ:
+    for i in range(f.size):
+        if em.rigid[i]:
             types.append("rigid")
             continue
         share = {g: float(frac[i, sel].sum()) for g, sel in groups.items()}
@@ -140,8 +124,8 @@ def fe_modes(model: TransmissionModel, prepared=None):  # noqa: ANN001, ANN201
         types.append(g if share[g] >= 0.5 else "mixed")
     bins = [e[0].split(".", 1)[0] if e[0].split(".", 1)[0] in ("bearing", "mesh")
             else "shaft" for e in elements]
-    return ModalResult(f, phi, _multiplicity(f), types, kinetic, strain, list(names),
-                       [e[0] for e in elements], bins, frac)
+    return ModalResult(f, phi, em.multiplicity, types, kinetic_energy(M, f, phi), strain,
+                       list(names), [e[0] for e in elements], bins, frac)
 
 
 def fe_campbell(model: TransmissionModel, prepared, speeds_rpm: np.ndarray,  # noqa: ANN001
