@@ -63,27 +63,22 @@ def element_tangents(model: TransmissionModel, q: np.ndarray, h: float = 1e-9
             J[:, jj] = -(force(qp) - f0)[dofs] / h
         return 0.5 * (J + J.T)
 
-    bs = model.bearings
+    def force_of(kernel, args: tuple, out_shape: tuple[int, ...]):  # noqa: ANN001, ANN202
+        def force(qq: np.ndarray) -> np.ndarray:
+            f = np.zeros(model.ndof)
+            kernel(qq, v, f, np.zeros(5), *args, np.zeros(out_shape))
+            return f
+        return force
+
+    bs, mh = model.bearings, model.meshes
+    node = np.arange(6)
     for i, name in enumerate(bs.names):
-        b = _one(bs, i)
-
-        def fb(qq: np.ndarray, b=b) -> np.ndarray:  # noqa: ANN001
-            f = np.zeros(model.ndof)
-            bearing_forces(qq, v, f, np.zeros(5), *b.args(), np.zeros((1, 3)))
-            return f
-
-        dofs = 6 * int(bs.node[i]) + np.arange(6)
+        dofs = 6 * int(bs.node[i]) + node
+        fb = force_of(bearing_forces, _one(bs, i).args(), (1, 3))
         out.append((f"bearing.{name}", dofs, tangent(fb, dofs)))
-    mh = model.meshes
     for i, name in enumerate(mh.names):
-        m = _one(mh, i)
-
-        def fm(qq: np.ndarray, m=m) -> np.ndarray:  # noqa: ANN001
-            f = np.zeros(model.ndof)
-            mesh_forces(qq, v, f, np.zeros(5), *m.args(), np.zeros(1))
-            return f
-
-        dofs = np.concatenate([6 * int(mh.na[i]) + np.arange(6), 6 * int(mh.nb[i]) + np.arange(6)])
+        dofs = np.concatenate([6 * int(mh.na[i]) + node, 6 * int(mh.nb[i]) + node])
+        fm = force_of(mesh_forces, _one(mh, i).args(), (1,))
         out.append((f"mesh.{name}", dofs, tangent(fm, dofs)))
     return out
 
