@@ -236,3 +236,30 @@ def test_bad_input_is_named() -> None:
         campbell(M, K, [(1.0, np.eye(3), None)], np.array([0.0]))
     with pytest.raises(InputError, match="n_modes"):
         campbell(M, K, [], np.array([0.0]), n_modes=-1)
+
+
+def test_model_campbells_track_the_same_frequencies(lin_parker) -> None:  # noqa: ANN001
+    """Planetary, mechanism and FE Campbell wrappers with ``track``: at every speed the tracked
+    columns hold the same frequencies as the sorted ones (all modes kept, 1e-9); at the first
+    speed they are sorted."""
+    from geardyn.models.core import model_from_config as core_model
+    from geardyn.models.core.modal import core_campbell
+    from geardyn.models.transmission import build_model, prepare
+    from geardyn.models.transmission.modal import fe_campbell
+    from geardyn.solve.modal import campbell as planetary_campbell
+
+    speeds = np.array([0.0, 200.0, 600.0, 1500.0])
+    cases = [(planetary_campbell, (lin_parker, speeds))]
+    mech = core_model(load_config(EX / "three_stage_gearbox.toml"))
+    cases.append((core_campbell, (mech, next(iter(mech.bodies.keys() - {mech.frame})), speeds)))
+    cfg = load_config(EX / "seed002_transmission.toml")
+    fe = build_model(cfg)
+    prep = prepare(fe, cfg.transmission.speed_law.reference.shaft)
+    cases.append((fe_campbell, (fe, prep, speeds * 30.0 / math.pi)))
+    for fn, args in cases:
+        n = len(args[0].dof_names) if hasattr(args[0], "dof_names") else len(args[0].names)
+        sorted_ = fn(*args, n_modes=n).values
+        tracked = fn(*args, n_modes=n, track=True).values
+        np.testing.assert_allclose(np.sort(tracked, axis=1), np.sort(sorted_, axis=1),
+                                   rtol=1e-9, atol=1e-6)
+        np.testing.assert_allclose(tracked[0], sorted_[0], rtol=1e-12, atol=1e-6)

@@ -160,6 +160,17 @@ def assembly_strain(asm: Assembly, shapes: np.ndarray, kinds: Sequence[str] | No
             [e.kind for e in ones] + [b.kind for b in blocks], strain)
 
 
+def frame_terms(asm: Assembly, motion: np.ndarray) -> list[FrameTerm]:
+    """:func:`campbell` terms of the rotating frames of ``asm``
+    (:meth:`~geardyn.models.core.assembly.Assembly.frame_terms`) for the rigid-body motion
+    ``motion`` (q̇ per unit reference speed): rate_c = r_c · motion."""
+    motion = np.asarray(motion, float)
+    if motion.shape != (asm.n,) or not np.all(np.isfinite(motion)):
+        raise InputError(f"motion: must be {asm.n} finite values (one per DOF), got shape "
+                         f"{motion.shape}")
+    return [(float(r @ motion), g, k_om) for _name, r, g, k_om in asm.frame_terms()]
+
+
 def _pair_frequencies(lam: np.ndarray) -> np.ndarray:
     """One frequency (Hz) per ± pair of state-space eigenvalues: eigenvalues of a real matrix
     come in conjugate pairs (real ones, e.g. the double 0 of a rigid mode, in an even number),
@@ -246,5 +257,5 @@ def campbell(M: np.ndarray, K: np.ndarray, terms: Sequence[FrameTerm], speeds: n
 
 
 __all__ = ["Eigenmodes", "FrameTerm", "assembly_strain", "campbell", "degenerate_groups",
-           "eigenmodes", "kinetic_energy", "multiplicity", "participation", "strain_blocks",
-           "strain_rank_one"]
+           "eigenmodes", "frame_terms", "kinetic_energy", "multiplicity", "participation",
+           "strain_blocks", "strain_rank_one"]

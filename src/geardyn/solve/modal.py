@@ -190,19 +190,20 @@ def modes(
     )
 
 
-def campbell(model: PlanetaryModel, carrier_speeds_rad_s: np.ndarray, n_modes: int | None = None
-             ) -> xr.DataArray:
+def campbell(model: PlanetaryModel, carrier_speeds_rad_s: np.ndarray, n_modes: int | None = None,
+             track: bool = False) -> xr.DataArray:
     """Natural frequencies (Hz) vs carrier speed Ω with gyroscopic and centripetal terms.
 
     Quadratic eigenproblem of seed 003 eq 3.1 (homogeneous part) solved in state-space form
     (:func:`geardyn.solve.eigen.campbell`, every stage's frame at the carrier speed); returns
-    the ``n_modes`` lowest non-negative frequencies per speed.
+    the ``n_modes`` lowest non-negative frequencies per speed, sorted, or followed mode by mode
+    along the speeds with ``track``.
     """
     mm = model.mass_matrix()
     n_modes = n_modes or mm.shape[0]
     out = eigen_campbell(mm, model.stiffness_matrix(),
                          [(1.0, model.gyroscopic_matrix(), model.centripetal_matrix())],
-                         carrier_speeds_rad_s, n_modes)
+                         carrier_speeds_rad_s, n_modes, track=track)
     return xr.DataArray(
         out,
         dims=("carrier_speed", "mode"),

@@ -16,7 +16,13 @@ import xarray as xr
 
 from geardyn.models.core.model import CoreModel
 from geardyn.solve.eigen import campbell as eigen_campbell
-from geardyn.solve.eigen import eigenmodes, kinetic_energy, participation, strain_rank_one
+from geardyn.solve.eigen import (
+    eigenmodes,
+    frame_terms,
+    kinetic_energy,
+    participation,
+    strain_rank_one,
+)
 from geardyn.solve.modal import ModalResult
 
 
@@ -45,13 +51,13 @@ def core_modes(model: CoreModel, rtol: float = 1e-6, atol_hz: float = 1e-3,
 
 
 def core_campbell(model: CoreModel, body: str, speeds_rad_s: np.ndarray,
-                  n_modes: int | None = None) -> xr.DataArray:
+                  n_modes: int | None = None, track: bool = False) -> xr.DataArray:
     """Natural frequencies (Hz) against the speed of ``body`` with the gyroscopic and
     centripetal terms of every carrier frame (lateral model; seed 003 eq 3.1, homogeneous part):
     M q̈ + Σ_c Ω_c G_c q̇ + (K − Σ_c Ω_c² K_Ω,c) q = 0 with Ω_c = r_c·q̇_rigid, the rigid-body
     motion (kinematic, 1 DOF) in which ``body`` turns at the given speed. State-space form
     (:func:`geardyn.solve.eigen.campbell`); the ``n_modes`` lowest non-negative frequencies per
-    speed."""
+    speed, sorted, or followed mode by mode along the speeds with ``track``."""
     from geardyn.errors import InputError
 
     mm, kk = model.mass_matrix(), model.stiffness_matrix()
@@ -65,8 +71,8 @@ def core_campbell(model: CoreModel, body: str, speeds_rad_s: np.ndarray,
     rigid = null[:, 0] / h  # body at 1 rad/s
     n_modes = n_modes or model.n
     speeds = np.asarray(speeds_rad_s, float)
-    terms = [(float(rate @ rigid), g, k_om) for rate, g, k_om in model.rotating]
-    out = eigen_campbell(mm, kk, terms, speeds, n_modes)
+    out = eigen_campbell(mm, kk, frame_terms(model.assembly, rigid), speeds, n_modes,
+                         track=track)
     return xr.DataArray(out, dims=("speed", "mode"),
                         coords={"speed": speeds, "mode": np.arange(1, n_modes + 1)},
                         name="frequency", attrs={"units": "Hz", "speed_units": "rad/s",

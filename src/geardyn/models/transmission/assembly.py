@@ -556,6 +556,7 @@ def campbell(
     speeds_rpm: np.ndarray,
     ratios: dict[str, float],
     n_modes: int = 20,
+    track: bool = False,
 ):  # noqa: ANN201 - xarray.DataArray
     """Campbell diagram: undamped whirl frequencies (Hz) of M q̈ + G(Ω) q̇ + K_lin q = 0 at the
     reference-shaft speeds ``speeds_rpm``, each shaft spinning at ``ratios[shaft]`` × the
@@ -563,14 +564,16 @@ def campbell(
     :func:`geardyn.solve.eigen.campbell`).
 
     Returns a DataArray (speed_rpm, mode) of the lowest ``n_modes`` frequencies above 0.5 Hz
-    (the drive line's rigid-body rotation left out)."""
+    (the drive line's rigid-body rotation left out), sorted, or followed mode by mode along the
+    speeds with ``track``."""
     import xarray as xr
 
     from geardyn.solve.eigen import campbell as eigen_campbell
 
     rpm = np.asarray(speeds_rpm, dtype=float)
     terms = [(model.shaft_sign[s] * ratios[s], g, None) for s, g in model.gyroscopic.items()]
-    out = eigen_campbell(model.M, K_lin, terms, rpm * math.pi / 30.0, n_modes, min_hz=0.5)
+    out = eigen_campbell(model.M, K_lin, terms, rpm * math.pi / 30.0, n_modes, min_hz=0.5,
+                         track=track)
     return xr.DataArray(
         out, dims=("speed_rpm", "mode"),
         coords={"speed_rpm": rpm, "mode": np.arange(n_modes)},

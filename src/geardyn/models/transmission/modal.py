@@ -124,10 +124,12 @@ def fe_modes(model: TransmissionModel, prepared=None):  # noqa: ANN001, ANN201
 
 
 def fe_campbell(model: TransmissionModel, prepared, speeds_rpm: np.ndarray,  # noqa: ANN001
-                n_modes: int = 20, reference: str | None = None) -> xr.DataArray:
+                n_modes: int = 20, reference: str | None = None, track: bool = False
+                ) -> xr.DataArray:
     """Whirl frequencies (Hz) of M q̈ + G(Ω) q̇ + K_lin q = 0 against the speed of the
     ``reference`` shaft (rpm; default: the one of ``prepared``), every shaft spinning at its
-    kinematic ratio (:func:`geardyn.models.transmission.assembly.campbell`)."""
+    kinematic ratio (:func:`geardyn.models.transmission.assembly.campbell`); ``track``: each
+    column follows one mode along the speeds instead of sorted frequencies."""
     from geardyn.models.transmission.simulate import speed_ratios
 
     ratios = prepared.speed_ratio if reference is None else None
@@ -140,7 +142,8 @@ def fe_campbell(model: TransmissionModel, prepared, speeds_rpm: np.ndarray,  # n
                              f"{', '.join(model.shaft_nodes)})")
         ratios = speed_ratios(model, ref)
     ref = next(iter(ratios))  # speed_ratios puts the reference shaft first
-    cd = campbell(model, prepared.K_lin, np.asarray(speeds_rpm, float), ratios, n_modes=n_modes)
+    cd = campbell(model, prepared.K_lin, np.asarray(speeds_rpm, float), ratios, n_modes=n_modes,
+                  track=track)
     cd.attrs.update({"speed_of": ref, "speed_units": "rpm"})
     return cd
 
