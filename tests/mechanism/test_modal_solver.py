@@ -30,6 +30,7 @@ from geardyn.solve.eigen import (
     campbell,
     degenerate_groups,
     eigenmodes,
+    frame_terms,
     kinetic_energy,
     strain_rank_one,
 )
@@ -96,7 +97,9 @@ def _disc_rotor(m: float, i_p: float, i_d: float, k_t: float, k_z: float, k_r: f
     """Rigid disc (x, y, z, θx, θy, θz) on isotropic supports, free to spin about z."""
     asm = Assembly()
     idx = asm.add_dofs("disc", ["x", "y", "z", "rx", "ry", "rz"])
-    asm.add_block("disc", "disc", idx, M=rigid_disc(m, i_p, i_d), G=disc_gyroscopic(i_p))
+    asm.add_frame("spin", asm.row({"disc.rz": 1.0}))  # Ω = θ̇z
+    asm.add_block("disc", "disc", idx, frame="spin", M=rigid_disc(m, i_p, i_d),
+                  G=disc_gyroscopic(i_p))
     for lab, k in (("x", k_t), ("y", k_t), ("z", k_z), ("rx", k_r), ("ry", k_r)):
         asm.add_rank_one(RankOne(f"support.{lab}", "support", k, asm.row({f"disc.{lab}": 1.0})))
     return asm
@@ -114,8 +117,10 @@ def test_disc_rotor_campbell_forward_backward_whirl() -> None:
     m, i_p, i_d, k_t, k_z, k_r = 10.0, 0.2, 0.1, 4.0e6, 9.0e6, 2.0e4
     asm = _disc_rotor(m, i_p, i_d, k_t, k_z, k_r)
     speeds = np.array([0.0, 150.0, 700.0, 2500.0])
-    out = campbell(asm.matrix("M"), asm.matrix("K"), [(1.0, asm.matrix("G"), None)], speeds,
-                   n_modes=6, min_hz=1e-3)
+    spin = asm.row({"disc.rz": 1.0})  # the free spin: rigid-body motion at unit speed
+    terms = frame_terms(asm, spin)
+    assert len(terms) == 1 and terms[0][0] == 1.0
+    out = campbell(asm.matrix("M"), asm.matrix("K"), terms, speeds, n_modes=6, min_hz=1e-3)
     bw, fw = _whirl(speeds, i_p, i_d, k_r)
     lat = math.sqrt(k_t / m) / TWO_PI
     ax = math.sqrt(k_z / m) / TWO_PI
@@ -234,6 +239,8 @@ def test_bad_input_is_named() -> None:
         campbell(M, K, [], np.array([0.0, np.inf]))
     with pytest.raises(InputError, match="G: must be a 2 × 2"):
         campbell(M, K, [(1.0, np.eye(3), None)], np.array([0.0]))
+    with pytest.raises(InputError, match="motion"):
+        frame_terms(Assembly(), np.array([np.nan]))
     with pytest.raises(InputError, match="n_modes"):
         campbell(M, K, [], np.array([0.0]), n_modes=-1)
 
