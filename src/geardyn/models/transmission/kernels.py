@@ -41,6 +41,17 @@ V_REG = 1e-3  # m/s, friction regularisation speed
 
 
 @njit(cache=True)
+def _tanh(x):  # pragma: no cover - compiled
+    """math.tanh, without the call where it is ±1 in double precision (|x| ≥ 20): the
+    regularised friction and rolling-resistance signs are saturated almost always."""
+    if x >= 20.0:
+        return 1.0
+    if x <= -20.0:
+        return -1.0
+    return math.tanh(x)
+
+
+@njit(cache=True)
 def bearing_forces(
     q, v, f, diss,
     b_node, b_type, b_z, b_k, b_a0, b_pd, b_cage, b_dm, b_crr, b_visc, b_kax, b_cax,
@@ -89,9 +100,10 @@ def bearing_forces(
                 if dl > 0.0:
                     qj = b_k[i] * dl * math.sqrt(dl)
                     qsum += qj
-                    fx -= qj * ar / a * c
-                    fy -= qj * ar / a * s
-                    fz -= qj * uz / a
+                    qa = qj / a
+                    fx -= qa * ar * c
+                    fy -= qa * ar * s
+                    fz -= qa * uz
             else:
                 dl = ur - 0.5 * b_pd[i] - red
                 if dl > 0.0:
@@ -106,7 +118,7 @@ def bearing_forces(
         f[n0] += fx
         f[n0 + 1] += fy
         f[n0 + 2] += fz
-        trr = b_crr[i] * 0.5 * b_dm[i] * qsum * math.tanh(om / 1e-2)
+        trr = b_crr[i] * 0.5 * b_dm[i] * qsum * _tanh(om / 1e-2)
         f[n0 + 5] -= b_visc[i] * om + trr
         diss[0] += b_visc[i] * om * om
         diss[1] += trr * om
@@ -219,7 +231,7 @@ def mesh_forces(
                     ra = m_rhoa[i, ii, pp]
                     rb = m_rhob[i, ii, pp]
                     vs = dut + wa * ra + wb * rb
-                    ff = m_mu[i] * fp * math.tanh(vs / V_REG)
+                    ff = m_mu[i] * fp * _tanh(vs / V_REG)
                     f[a0] -= ff * tx
                     f[a0 + 1] -= ff * ty
                     f[b0] += ff * tx
