@@ -236,8 +236,9 @@ def simulate(
             "bearing_load": (("time", "bearing"), rec[:, o_b : o_b + nb],
                              {"units": "N", "long_name": "Σ rolling-element loads"}),
             "bearing_force": (("time", "bearing", "axis"),
-                              np.stack([rec[:, o_b + nb : o_b + 2 * nb],
-                                        rec[:, o_b + 2 * nb : o_b + 3 * nb]], axis=-1),
+                              # view of the x then y column blocks (no copy)
+                              rec[:, o_b + nb : o_b + 3 * nb].reshape(-1, 2, nb)
+                              .transpose(0, 2, 1),
                               {"units": "N", "long_name": "force of the bearing on the housing"}),
             "mesh_force": (("time", "mesh"), rec[:, o_b + 3 * nb :],
                            {"units": "N", "long_name": "normal force, transverse LOA"}),
