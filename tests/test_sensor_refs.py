@@ -290,3 +290,33 @@ def test_dominant_orders_rule():
 def test_planet_pass_bad_input_names_the_argument(call, message):
     with pytest.raises(InputError, match=message):
         call()
+
+
+def test_graduation_error_limits():
+    """A zero standard deviation needs no seed and gives the ideal edges; a pattern must stay
+    strictly below half a graduation π/R (both at π/R and above it is refused)."""
+    t = np.linspace(0.0, 1.0, 401)
+    th = 2 * math.pi * 2 * t
+    np.testing.assert_allclose(pulse_times_from_angle(t, th, 4, graduation_error=0.0),
+                               np.arange(9) / 8, atol=1e-12)
+    for err in (math.pi / 4, 1.2 * math.pi / 4):
+        with pytest.raises(InputError, match=r"graduation_error: errors must stay below half"):
+            pulse_times_from_angle(t, th, 4, graduation_error=np.array([0.0, err, 0.0, 0.0]))
+    with pytest.raises(InputError, match=r"graduation_error: standard deviation must be >= 0"):
+        pulse_times_from_angle(t, th, 4, graduation_error=-1e-3, seed=1)
+    with pytest.raises(InputError,
+                       match=r"graduation_error: graduation error pattern needs at least 4"):
+        pulse_times_from_angle(t, th, 4, graduation_error=np.zeros(3))
+
+
+@pytest.mark.parametrize("args, message", [
+    ((np.zeros(1), np.zeros(1), 4), r"time: time vector needs at least 2 samples"),
+    ((np.arange(3.0), np.arange(2.0), 4), r"angle: length 2 differs from time length 3"),
+    ((np.arange(3.0)[::-1], np.arange(3.0), 4), r"time: values must be strictly increasing"),
+    ((np.arange(3.0), np.ones(3), 4),
+     r"angle: angle history \(shaft must turn forward; negate it otherwise\) must be strictly"),
+    ((np.arange(3.0), np.arange(3.0), 0), r"pulses_per_rev: encoder resolution must be >= 1"),
+])
+def test_pulse_generation_bad_input_names_the_argument(args, message):
+    with pytest.raises(InputError, match=message):
+        pulse_times_from_angle(*args)
