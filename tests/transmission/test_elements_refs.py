@@ -207,7 +207,7 @@ def test_annular_disc_properties_by_quadrature():
     assert m == pytest.approx(dv.sum(), rel=1e-12)
     assert ip == pytest.approx((dv * R**2).sum(), rel=1e-12)
     assert idia == pytest.approx((dv * (R**2 / 2 + Z**2)).sum(), rel=1e-12)
-    with pytest.raises(InputError, match="outer_radius"):
+    with pytest.raises(InputError, match=r"^disc: need outer_radius > inner_radius ≥ 0"):
         solid_disc_properties(0.03, 0.03, wdt, rho)
 
 
@@ -217,3 +217,10 @@ def test_rigid_disc_matrix_and_thin_disc_default():
     np.testing.assert_array_equal(np.diag(rigid_disc(3.0, 0.5, 0.4)), [3, 3, 3, 0.4, 0.4, 0.5])
     with pytest.raises(InputError, match="mass"):
         rigid_disc(-1.0, 0.5)
+
+
+def test_element_length_and_mass_kind_are_checked():
+    with pytest.raises(InputError, match=r"shaft element length must be > 0 m \(got 0.0\)"):
+        timoshenko_element(0.0, HOLLOW)
+    with pytest.raises(InputError, match=r"shaft element mass must be one of"):
+        timoshenko_element(0.1, HOLLOW, mass="diagonal")
