@@ -199,13 +199,21 @@ def linear_args(K: np.ndarray, C: np.ndarray | ModalDamping) -> tuple[tuple, tup
 
 def csc(A: np.ndarray) -> tuple:
     """(data, row indices, column pointers) of the non-zeros of dense ``A``, for
-    :func:`_csc_matvec`."""
-    return csr(np.asarray(A, dtype=float).T)
+    :func:`_csc_matvec`; a diagonal ``A`` (lumped mass) as (diagonal, empty, empty)."""
+    A = np.asarray(A, dtype=float)
+    if np.count_nonzero(A - np.diag(np.diag(A))) == 0:
+        return np.diag(A).copy(), np.zeros(0, np.int64), np.zeros(0, np.int64)
+    return csr(A.T)
 
 
 @njit(cache=True)
 def _csc_matvec(data, idx, ptr, x, out):  # pragma: no cover - compiled
-    """out += A x (A in CSC: column form, no serial reduction chain)."""
+    """out += A x (A in CSC: column form, no serial reduction chain; empty pointers: A is
+    the diagonal ``data``)."""
+    if ptr.size == 0:
+        for j in range(data.size):
+            out[j] += data[j] * x[j]
+        return
     for j in range(ptr.size - 1):
         xj = x[j]
         for p in range(ptr[j], ptr[j + 1]):

@@ -107,7 +107,7 @@ def bearing_forces(
             else:
                 dl = ur - 0.5 * b_pd[i] - red
                 if dl > 0.0:
-                    qj = b_k[i] * dl ** (10.0 / 9.0)
+                    qj = b_k[i] * dl * math.exp(math.log(dl) * (1.0 / 9.0))  # dl^(10/9)
                     qsum += qj
                     fx -= qj * c
                     fy -= qj * s
