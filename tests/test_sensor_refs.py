@@ -320,3 +320,23 @@ def test_graduation_error_limits():
 def test_pulse_generation_bad_input_names_the_argument(args, message):
     with pytest.raises(InputError, match=message):
         pulse_times_from_angle(*args)
+
+
+def test_two_modes_add_and_dict_defaults():
+    """H = Σ H_i (module docstring): steady sine at 1200 Hz through the two modes of MODES has
+    the amplitude |Σ H_d,i| of the bilinear closed form; a mode given by its frequency only
+    takes ζ = 0.05 and m = 1 kg (the accelerance defaults)."""
+    fs, f = 20_000.0, 1200.0
+    t = np.arange(0, 0.4, 1 / fs)
+    acc = apply_transfer_path(np.sin(2 * np.pi * f * t), fs, MODES)
+    s = 2j * fs * math.tan(math.pi * f / fs)
+    h = 0j
+    for md in MODES:
+        w = 2 * fs * math.tan(math.pi * md["frequency_hz"] / fs)
+        h += s * s / (md["modal_mass_kg"] * (s * s + 2 * md["damping_ratio"] * w * s + w * w))
+    assert np.abs(acc[t > 0.25]).max() == pytest.approx(abs(h), rel=0.01)
+    x = np.sin(2 * np.pi * 900.0 * t[:2000])
+    np.testing.assert_allclose(
+        apply_transfer_path(x, fs, [{"frequency_hz": 900.0}]),
+        apply_transfer_path(x, fs, [{"frequency_hz": 900.0, "damping_ratio": 0.05,
+                                     "modal_mass_kg": 1.0}]), rtol=0, atol=1e-15)
