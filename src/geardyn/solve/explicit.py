@@ -13,6 +13,11 @@ end-of-step velocity. The loop runs in compiled code, in chunks that return to P
 state is carried between chunks, so the result does not depend on the chunking. Outputs are
 decimated.
 
+Cost per step (issue 12): K q in CSC over its non-zeros, M⁻¹ f as a CSC or (lumped mass)
+diagonal product, C v either the dense modal damping matrix (BLAS) or, with a cutoff,
+:class:`ModalDamping` (sparse stiffness-proportional part + rank-r modal part, no n² term);
+records go through a small block buffer into an array on 4 kB pages (:func:`record_array`).
+
 Drive: T_d = T_0 + K_p e + K_i ∫e, e = ω_ref(t) − ω_ref_node, on the drive node; the load
 torque is constant and resists the rotation (seed 002 §3.2: operating point reached by the
 torque laws). Energy bookkeeping integrates input, output, the work of the applied loads and
