@@ -197,6 +197,7 @@ def run() -> list[dict]:
                      "mass", "target": "-", "measured_s": float(np.sqrt(w2) / (2 * np.pi)),
                      "met": "", "us_per_step": p.dt_stable * 1e6})
     rows += _scaling_rows()
+    rows += _scaling_rows(LUMPED, "lumped")
     rows += _scaling_rows(LUMPED_CUTOFF, f"lumped, cutoff {CUTOFF_HZ:.0f} Hz")
     rows.append({"case": "prepare (static Newton + FD Jacobian + eig)", "target": "-",
                  "measured_s": t_prep, "met": ""})
