@@ -251,3 +251,43 @@ def test_integrated_angle_of_a_ramp():
     want = np.where(t <= 2, 2.5 * t**2, 10 + 10 * (t - 2))
     np.testing.assert_allclose(integrated_angle(t, np.array([0.0, 2.0]), np.array([0.0, 10.0])),
                                want, rtol=1e-12)
+
+
+def test_spring_kinds_split_the_stiffness_and_carry_their_labels():
+    """The kinds of the Spring docstring partition K: the supports are diag(k_t/r²) (3.9), the
+    meshes and planet bearings the blocks of (3.14)-(3.22), the shafts k (θ_a − θ_b)²; every
+    mesh/planet-bearing spring names its planet (1-based) and body; stage info keeps the
+    geometry used for mesh phasing."""
+    st = _stage(prefix=True)
+    m = assemble([st], [ShaftSpec("in", "motor", "s.sun", torsional=2.0e4),
+                        ShaftSpec("c", "s.carrier", "s.ring", flexural=5.0e6)],
+                 [RotorSpec("motor", 0.3, support=70.0)])
+    kinds = ("bearing", "support_u", "planet_bearing", "mesh_sun", "mesh_ring", "shaft")
+    assert {s.kind for s in m.springs} == set(kinds)
+    np.testing.assert_allclose(sum(m.stiffness_matrix((k,)) for k in kinds),
+                               m.stiffness_matrix(), rtol=1e-14, atol=1e-6)
+    sup = np.zeros(m.n_full)
+    for role, p in (("carrier", CARRIER), ("ring", RING), ("sun", SUN)):
+        sup[m.dof(f"s.{role}.u")] = p["torsional"] / p["radius"] ** 2
+    sup[m.dof("motor.theta")] = 70.0
+    np.testing.assert_allclose(m.stiffness_matrix(("support_u",)), np.diag(sup), rtol=1e-14)
+    ks = m.stiffness_matrix(("shaft",))
+    i_m, i_s = m.dof("motor.theta"), m.dof("s.sun.u")
+    assert ks[i_m, i_s] == pytest.approx(-2.0e4 / SUN["radius"], rel=1e-14)
+    ix_c, ix_r = m.dof("s.carrier.x"), m.dof("s.ring.y")
+    assert ks[ix_c, ix_c] == pytest.approx(5.0e6) and ks[ix_r, ix_r] == pytest.approx(5.0e6)
+    for s in m.springs:
+        if s.kind in ("mesh_sun", "mesh_ring", "planet_bearing"):
+            assert s.body == f"s.planet{s.planet}" and 1 <= s.planet <= 3
+            assert s.bin and s.stage == "s"
+    assert {s.body for s in m.springs if s.kind == "shaft"} == {"in", "c"}
+    assert all(isinstance(s.bin, str) and s.bin.startswith(("bearing", "mesh", "shaft",
+                                                            "support"))
+               for s in m.springs)
+    names = {s.name for s in m.springs}
+    assert {"c.flex.x", "c.flex.y", "in.torsion", "motor.support"} <= names
+    info = m.stages["s"]
+    assert (info.alpha_s, info.alpha_r) == (AS, AR)
+    assert (info.r_sun, info.r_ring, info.r_planet, info.r_carrier) == (0.05, 0.15, 0.045, 0.1)
+    assert m.bodies["s.planet2"].inertia == PLANET["inertia"]
+    assert m.bodies["s.planet2"].radius == PLANET["radius"]
