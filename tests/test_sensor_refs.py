@@ -340,3 +340,14 @@ def test_two_modes_add_and_dict_defaults():
         apply_transfer_path(x, fs, [{"frequency_hz": 900.0}]),
         apply_transfer_path(x, fs, [{"frequency_hz": 900.0, "damping_ratio": 0.05,
                                      "modal_mass_kg": 1.0}]), rtol=0, atol=1e-15)
+
+
+def test_edges_outside_the_record_are_dropped():
+    """θ = 2π t over [0, 1] s, R = 4, graduation errors ε = (−0.1, 0, 0, 0.1)·π/4: the edge
+    of graduation 0 of the first turn sits at ε_0 < 0, before the record, and is dropped; the
+    record holds the edges k = 1 … 4 at (k·π/2 + ε_(k mod 4))/2π s."""
+    t = np.linspace(0.0, 1.0, 801)
+    eps = np.array([-0.1, 0.0, 0.0, 0.1]) * math.pi / 4
+    tp = pulse_times_from_angle(t, 2 * math.pi * t, 4, graduation_error=eps)
+    want = (np.array([1, 2, 3, 4]) * math.pi / 2 + eps[[1, 2, 3, 0]]) / (2 * math.pi)
+    np.testing.assert_allclose(tp, want, atol=1e-12)

@@ -64,8 +64,10 @@ def _stamped(n: int, damping: float = 0.0, lateral: bool = False):
     asm.add_dofs("d1", ["theta"], [0.0])
     asm.add_dofs("d2", ["theta"], [0.0])
     assert add_shaft_nodes(asm, [sh]) == list(range(2, 2 + n - 1))
-    springs = stamp_fe_shaft(asm, sh, asm.row({"d1.theta": 1.0}), asm.row({"d2.theta": 1.0}),
-                             lateral=lateral)
+    ends = (asm.row({"d1.theta": 1.0}), asm.row({"d2.theta": 1.0}))
+    # the torsional model's call leaves ``lateral`` at its default (False)
+    springs = (stamp_fe_shaft(asm, sh, *ends, lateral=True) if lateral
+               else stamp_fe_shaft(asm, sh, *ends))
     return sh, asm, springs
 
 
