@@ -291,3 +291,17 @@ def test_spring_kinds_split_the_stiffness_and_carry_their_labels():
     assert (info.r_sun, info.r_ring, info.r_planet, info.r_carrier) == (0.05, 0.15, 0.045, 0.1)
     assert m.bodies["s.planet2"].inertia == PLANET["inertia"]
     assert m.bodies["s.planet2"].radius == PLANET["radius"]
+
+
+def test_missing_bearing_and_support_are_zero():
+    """A central member given without ``bearing`` / ``torsional`` has no bearing spring
+    stiffness (seed 003 eqs 3.9-3.10 with k = 0): the sun's diagonal loses exactly its
+    bearing and support terms."""
+    st = _stage()
+    st.sun = {k: v for k, v in SUN.items() if k not in ("bearing", "torsional")}
+    k_ref = _blocks_reference()
+    i = 6  # sun block (c, r, s)
+    k_ref[i:i + 3, i:i + 3] -= np.diag([SUN["bearing"], SUN["bearing"],
+                                        SUN["torsional"] / SUN["radius"] ** 2])
+    np.testing.assert_allclose(assemble([st]).stiffness_matrix(), k_ref, rtol=0,
+                               atol=1e-6 * KR)
