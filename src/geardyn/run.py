@@ -47,8 +47,22 @@ def run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: AN
     refused with an InputError naming it, or a :class:`~geardyn.solve.sanity.TimeStepWarning`).
     A diverged run returns its partial result with ``status = 'diverged'``, a stopped one with
     ``interrupted``, one failing the output checks (mesh deflection vs module, energy balance)
-    with ``suspect`` (no exception; ``diagnosis`` says why).
+    with ``suspect`` (no exception; ``diagnosis`` says why). BLAS runs one thread during the
+    run (:func:`geardyn.solve.determinism.single_thread_blas`): the same bits in any process.
     """
+    from geardyn.solve.determinism import single_thread_blas
+
+    with single_thread_blas():
+        return _run_simulation(cfg, seed, t_end_s, revolutions, progress, control, model,
+                               prepared)
+
+
+def _run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: ANN001
+                    revolutions: float | None = None,
+                    progress: Callable[[float], None] | None = None,
+                    control: RunControl | None = None, model: str | None = None,
+                    prepared=None) -> xr.Dataset:  # noqa: ANN001
+    """:func:`run_simulation` without the BLAS thread limit."""
     if not isinstance(seed, int | np.integer) or seed < 0:
         raise InputError(f"seed: must be an integer >= 0, got {seed!r}")
     if t_end_s is not None and not (math.isfinite(t_end_s) and t_end_s > 0):

@@ -226,6 +226,15 @@ def _csc_matvec(data, idx, ptr, x, out):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _dot(x, y):  # pragma: no cover - compiled
+    """Σ x_i y_i in index order (0 for empty x; no BLAS: see :func:`_linear_forces`)."""
+    acc = 0.0
+    for i in range(x.size):
+        acc += x[i] * y[i]
+    return acc
+
+
+@njit(cache=True)
 def _linear_forces(q, v, f, cw, idx, ptr, kdat, bdat, BT, B, w, y, Cd, tmp
                    ):  # pragma: no cover - compiled
     """f −= K q + C v and ``cw`` = C v (see :func:`linear_args`): one pass over K (CSC), or
@@ -247,16 +256,37 @@ def _linear_forces(q, v, f, cw, idx, ptr, kdat, bdat, BT, B, w, y, Cd, tmp
                 ac += bdat[p] * v[c]
             f[i] -= ak
             cw[i] = ac
+    # matrix-vector products as plain loops, not BLAS: a threaded BLAS splits them by its
+    # thread count, and a run must give the same bits whatever the BLAS threads (resume,
+    # interrupts, a sweep worker against the driver). Written as axpy passes over contiguous
+    # rows (no reduction chain: vectorised without reordering any sum); C is symmetric.
     r = w.size
-    if r > 0:  # BLAS matrix-vector products into work arrays (no allocation)
-        np.dot(BT, v, y)
+    if r > 0:  # low-rank modal part B diag(w) Bᵀ v; B is n × r, BT its transpose
         for k in range(r):
-            y[k] *= w[k]
-        np.dot(B, y, tmp)
+            y[k] = 0.0
+        for j in range(n):
+            vj = v[j]
+            for k in range(r):
+                y[k] += B[j, k] * vj
+        for k in range(r):
+            yk = y[k] * w[k]
+            for i in range(n):
+                cw[i] += BT[k, i] * yk
+    if Cd.shape[0] > 0:  # four rows per pass: a quarter of the loads and stores of cw
         for i in range(n):
-            cw[i] += tmp[i]
-    if Cd.shape[0] > 0:
-        np.dot(Cd, v, cw)
+            cw[i] = 0.0
+        j = 0
+        while j + 4 <= n:
+            v0, v1, v2, v3 = v[j], v[j + 1], v[j + 2], v[j + 3]
+            for i in range(n):
+                cw[i] += (Cd[j, i] * v0 + Cd[j + 1, i] * v1) + (Cd[j + 2, i] * v2
+                                                                  + Cd[j + 3, i] * v3)
+            j += 4
+        while j < n:
+            vj = v[j]
+            for i in range(n):
+                cw[i] += Cd[j, i] * vj
+            j += 1
     for i in range(n):
         f[i] -= cw[i]
 
@@ -279,7 +309,7 @@ def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, 
     mesh_forces(q, v, f, diss, *margs, mf)
     cw = C[5]
     _linear_forces(q, v, f, cw, *K, *C[:5], C[6])
-    diss[4] += v @ cw
+    diss[4] += _dot(v, cw)
     if gargs[0].size == 0:
         a[:] = 0.0
         _csc_matvec(Minv[0], Minv[1], Minv[2], f, a)
@@ -378,7 +408,7 @@ def run_chunk(
         p_in0 = fext[drive_dof] * v[drive_dof]
         p_out0 = -fext[load_dof] * v[load_dof]
         d0[:] = diss
-        px0 = fx @ v if fx.size > 0 else 0.0
+        px0 = _dot(fx, v)
         for j in range(n):
             vh[j] = v[j] + 0.5 * dt * a[j]
             q[j] += dt * vh[j]
@@ -408,7 +438,7 @@ def run_chunk(
         for c in range(5):
             energy[2 + c] += 0.5 * dt * (d0[c] + diss[c])
         if fx.size > 0:
-            energy[E_EXT] += 0.5 * dt * (px0 + fx @ v)
+            energy[E_EXT] += 0.5 * dt * (px0 + _dot(fx, v))
         sc[0] = t
         sc[1] = integ
         sc[2] = td

@@ -100,12 +100,16 @@ def speed_ratios(model: TransmissionModel, reference_shaft: str) -> dict[str, fl
 
 
 def prepare(model: TransmissionModel, reference_shaft: str | None = None) -> Prepared:
-    """Static equilibrium under the load torque, tangent stiffness, modes, damping, step."""
-    q0 = static_equilibrium(model, model.load_torque)
-    K_lin = model.K + connecting_jacobian(model, q0)
-    f, _ = modal_analysis(model.M, K_lin)
-    C = modal_damping_matrix(model.M, K_lin, model.modal_damping)
-    dt = explicit.stable_time_step(model.M, K_lin)
+    """Static equilibrium under the load torque, tangent stiffness, modes, damping, step
+    (one BLAS thread: the same bits in any process, see :mod:`geardyn.solve.determinism`)."""
+    from geardyn.solve.determinism import single_thread_blas
+
+    with single_thread_blas():
+        q0 = static_equilibrium(model, model.load_torque)
+        K_lin = model.K + connecting_jacobian(model, q0)
+        f, _ = modal_analysis(model.M, K_lin)
+        C = modal_damping_matrix(model.M, K_lin, model.modal_damping)
+        dt = explicit.stable_time_step(model.M, K_lin)
     ref = reference_shaft or next(iter(model.shaft_nodes))
     return Prepared(model, q0, K_lin, C, f, dt, speed_ratios(model, ref))
 
