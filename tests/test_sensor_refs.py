@@ -351,3 +351,13 @@ def test_edges_outside_the_record_are_dropped():
     tp = pulse_times_from_angle(t, 2 * math.pi * t, 4, graduation_error=eps)
     want = (np.array([1, 2, 3, 4]) * math.pi / 2 + eps[[1, 2, 3, 0]]) / (2 * math.pi)
     np.testing.assert_allclose(tp, want, atol=1e-12)
+
+
+def test_two_sample_angle_history_is_an_input_error() -> None:
+    """The pulse times interpolate with a second-order speed estimate (np.gradient,
+    edge_order=2): two samples are refused naming the time vector, not a numpy ValueError."""
+    from geardyn.errors import InputError
+    from geardyn.sensors.encoder import pulse_times_from_angle
+
+    with pytest.raises(InputError, match="time: .*at least 3 samples"):
+        pulse_times_from_angle(np.array([0.0, 1.0]), np.array([0.0, 1.0]), 10)
