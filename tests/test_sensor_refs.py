@@ -310,7 +310,7 @@ def test_graduation_error_limits():
 
 
 @pytest.mark.parametrize("args, message", [
-    ((np.zeros(1), np.zeros(1), 4), r"time: time vector needs at least 2 samples"),
+    ((np.zeros(1), np.zeros(1), 4), r"time: time vector needs at least 3 samples"),
     ((np.arange(3.0), np.arange(2.0), 4), r"angle: length 2 differs from time length 3"),
     ((np.arange(3.0)[::-1], np.arange(3.0), 4), r"time: values must be strictly increasing"),
     ((np.arange(3.0), np.ones(3), 4),

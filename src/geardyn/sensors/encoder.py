@@ -59,7 +59,7 @@ def pulse_times_from_angle(
     history finely enough (≥ 4 samples per encoder interval is plenty for smooth speed laws).
     """
     t = array1d("time", time, 3, "time vector")
-    th = array1d("angle", angle, 3, "angle history")
+    th = array1d("angle", angle, 2, "angle history")
     if th.size != t.size:
         raise InputError(f"angle: length {th.size} differs from time length {t.size}")
     increasing("time", t)
