@@ -120,6 +120,19 @@ def test_turning_the_sketch_leaves_the_lateral_model_unchanged(sigma):
     w2 = sla.eigh(k2, by_carrier.M, eigvals_only=True)
     assert np.sqrt(w1[1:]) == pytest.approx(np.sqrt(w2[1:]), rel=1e-9)
     assert abs(w1[0]) < 1e-9 * w1[-1]
+    # the carrier frame holds the stage only (seed 003 eqs 3.4-3.8): K_Ω = Σ m DᵀD by hand —
+    # sun m_s; carrier translation m_c + Σ m_p (the pins ride on it); carrier rotation
+    # Σ m_p r_c² (orbit); planets m_p; the input shaft, not coaxial, none
+    col = {nm: i for i, nm in enumerate(by_in.dof_names)}
+    mp = [0.66 * (1 + 0.05 * i) for i in range(NP)]
+    r_c = MOD * (ZS + ZP) / 2
+    want = {"sun.x": 0.4, "sun.y": 0.4, "carrier.x": 5.4 + sum(mp), "carrier.y": 5.4 + sum(mp),
+            "carrier.theta": sum(mp) * r_c**2}
+    want |= {f"{p}.{d}": m for p, m in zip(planets, mp, strict=True) for d in ("zeta", "eta")}
+    for model in (by_in, by_carrier):
+        k_om = model.centripetal_matrix()
+        got = {nm: k_om[i, i] for nm, i in col.items() if np.abs(k_om[i]).max() > 0}
+        assert got == pytest.approx(want, rel=1e-12)
     # Campbell: Ω G q̇ − Ω² K_Ω q at the carrier speed (seed 003 eq 3.1)
     speeds = np.array([0.0, 300.0])
     c1 = core_campbell(by_in, "carrier", speeds).values
@@ -310,3 +323,133 @@ def test_tree_order_of_links_without_lateral_dofs():
     w1 = sla.eigh(first.stiffness_matrix(), first.M, eigvals_only=True)
     w2 = sla.eigh(last.stiffness_matrix(), last.M, eigvals_only=True)
     assert np.sqrt(w1[1:]) == pytest.approx(np.sqrt(w2[1:]), rel=1e-9)
+
+
+# ---- one planet: hand rows from the carrier-frame kinematics (Lin & Parker 1999) ------------
+
+ZS1, ZP1, ZR1 = 30, 20, 70
+LINKS1 = {"carrier": (0.02, 3.0, 2e8), "sun": (3e-4, 0.5, 1e8), "pl": (2e-4, 0.4, 3e8)}
+
+
+def _one_planet(convenience: bool, psi_deg: float = 0.0) -> dict:
+    """A sun, a fixed ring and one planet on a carrier: through the [[planetary]] convenience
+    (planet 'st.planet1' on side b of both pairs, at ψ) or through hand-made gear pairs (planet
+    'pl' on side a of both, no planet angle: ψ = 0)."""
+    planet = "st.planet1" if convenience else "pl"
+    links = [{"link": planet if x == "pl" else x, "inertia_kgm2": j, "mass_kg": m,
+              "bearing_n_per_m": k} for x, (j, m, k) in LINKS1.items()]
+    dyn = {"module_m": MOD, "pressure_angle_deg": math.degrees(ALPHA), "lateral": True,
+           "links": links}
+    if convenience:
+        dyn["meshes"] = [{"pair": "st.sun", "stiffness_n_per_m": 5e8},
+                         {"pair": "st.ring", "stiffness_n_per_m": 4e8}]
+        return {"frame": "housing", "links": ["housing", "sun", "carrier"],
+                "planetary": [{"name": "st", "sun": "sun", "ring": "housing",
+                               "carrier": "carrier", "sun_teeth": ZS1, "planet_teeth": ZP1,
+                               "ring_teeth": ZR1, "n_planets": 1,
+                               "planet_angles_deg": [psi_deg]}],
+                "dynamics": dyn}
+    dyn["meshes"] = [{"pair": "sp", "stiffness_n_per_m": 5e8},
+                     {"pair": "rp", "stiffness_n_per_m": 4e8}]
+    return {"frame": "housing", "links": ["housing", "carrier", "sun", "pl"],
+            "turning_pairs": [{"links": ["housing", "carrier"], "axis": 1},
+                              {"links": ["housing", "sun"], "axis": 1},
+                              {"links": ["carrier", "pl"], "axis": 2}],
+            "gear_pairs": [{"name": "sp", "a": {"link": "pl", "teeth": ZP1},
+                            "b": {"link": "sun", "teeth": ZS1}},
+                           {"name": "rp", "a": {"link": "pl", "teeth": ZP1},
+                            "b": {"link": "housing", "teeth": ZR1, "internal": True}}],
+            "dynamics": dyn}
+
+
+def _zx(v: np.ndarray) -> np.ndarray:
+    """ẑ × v in the lateral plane (x̂, ŷ) of the carrier (x̂, ŷ, axis right-handed)."""
+    return np.array([-v[1], v[0]])
+
+
+def _planet_rows(model, planet: str, psi: float, mirror: float) -> tuple[np.ndarray, ...]:  # noqa: ANN001
+    """(sun–planet, ring–planet) rows n·(u_p(C) − u_g(C)) at the pitch points C of the carrier
+    frame: planet centre c_p = r_c (cos ψ, sin ψ), moved by (x_c, y_c) + R(ψ)(ζ, η) + θ_c ẑ × c_p
+    (pin, bearing, orbit) and turning by θ_c + θ_p; sun at the origin moved by (x_s, y_s) and
+    turning by θ_s; ring fixed. Lines of action at ±α from the tangent, mirror images of each
+    other about the planet's radial line (the planet's moment balance, Lin & Parker 1999 Fig. 1):
+    n = R(ψ)(±sin α, cos α), ``mirror`` choosing the pair."""
+    col = {nm: i for i, nm in enumerate(model.dof_names)}
+    r_c, r_p = MOD * (ZS1 + ZP1) / 2, MOD * ZP1 / 2
+    rot = np.array([[math.cos(psi), -math.sin(psi)], [math.sin(psi), math.cos(psi)]])
+    radial = rot[:, 0]
+    c_p = r_c * radial
+    rows = []
+    for side, sign in (("sun", 1.0), ("ring", -1.0)):
+        n = rot @ np.array([mirror * sign * math.sin(ALPHA), math.cos(ALPHA)])
+        c = c_p - sign * r_p * radial  # pitch point: towards the sun, or towards the ring
+        row = np.zeros(model.n)
+        row[col["carrier.x"]] += n[0]
+        row[col["carrier.y"]] += n[1]
+        row[col[f"{planet}.zeta"]] += n @ rot[:, 0]
+        row[col[f"{planet}.eta"]] += n @ rot[:, 1]
+        row[col["carrier.theta"]] += n @ (_zx(c_p) + _zx(c - c_p))
+        row[col[f"{planet}.theta"]] += n @ _zx(c - c_p)
+        if side == "sun":
+            row[col["sun.x"]] -= n[0]
+            row[col["sun.y"]] -= n[1]
+            row[col["sun.theta"]] -= n @ _zx(c)
+        rows.append(row)
+    return tuple(rows)
+
+
+def _match_rows(model, planet: str, psi: float, names: tuple[str, str]) -> None:  # noqa: ANN001
+    meshes = {m.name: m.a for m in model.meshes}
+    got = [meshes[x] for x in names]
+    fits = []
+    for mirror in (1.0, -1.0):
+        hand = _planet_rows(model, planet, psi, mirror)
+        err = max(np.abs(g - math.copysign(1.0, g @ h) * h).max() for g, h in zip(got, hand,
+                                                                                 strict=True))
+        fits.append(err)
+    assert min(fits) < 1e-12
+    assert max(fits) > 0.1  # the other flank pair is a different model
+
+
+@pytest.mark.parametrize("psi_deg", [0.0, 40.0, 250.0])
+def test_planet_rows_from_the_carrier_frame_kinematics(psi_deg):
+    """Convenience stage, planet at ψ (on side b of both pairs)."""
+    model = model_from_config(parse_config(_one_planet(True, psi_deg)), ["carrier"])
+    _match_rows(model, "st.planet1", math.radians(psi_deg), ("st.sun-planet1",
+                                                               "st.ring-planet1"))
+
+
+def test_hand_made_planet_on_side_a_equals_the_convenience_stage():
+    """Planet on side a of hand-made pairs, ring = frame on side b (ψ = 0): the hand rows, and
+    the same frequencies (1e-9) as the [[planetary]] stage with its planet at ψ = 0°, 40° or
+    250° (isotropic bearings: the planet's position angle does not change them)."""
+    hand_made = model_from_config(parse_config(_one_planet(False)), ["carrier"])
+    _match_rows(hand_made, "pl", 0.0, ("sp", "rp"))
+    assert {nm for nm in hand_made.dof_names if nm.startswith("pl.")} == \
+        {"pl.theta", "pl.zeta", "pl.eta"}
+    w_ref = sla.eigh(hand_made.stiffness_matrix(), hand_made.M, eigvals_only=True)
+    assert abs(w_ref[0]) < 1e-9 * w_ref[-1]
+    for psi_deg in (0.0, 40.0, 250.0):
+        model = model_from_config(parse_config(_one_planet(True, psi_deg)), ["carrier"])
+        w = sla.eigh(model.stiffness_matrix(), model.M, eigvals_only=True)
+        assert np.sqrt(w[1:]) == pytest.approx(np.sqrt(w_ref[1:]), rel=1e-9)
+
+
+def test_bearing_springs_by_direction():
+    """One bearing spring per lateral coordinate, named <link>.bearing.<x|y|zeta|eta> (the
+    bearing_force variables of the result, docs/results.md), of kind 'bearing', stiffness
+    bearing_n_per_m (0, the documented default, for a link that gives none), acting on its
+    coordinate alone."""
+    model = model_from_config(parse_config(_cage(True, sun_bearing=False)), ["cage"])
+    col = {nm: i for i, nm in enumerate(model.dof_names)}
+    want = {"cage.bearing.x": ("cage.x", 2e8), "cage.bearing.y": ("cage.y", 2e8),
+            "sun.bearing.x": ("sun.x", 0.0), "sun.bearing.y": ("sun.y", 0.0),
+            "pl.bearing.zeta": ("pl.zeta", 3e8), "pl.bearing.eta": ("pl.eta", 3e8)}
+    springs = {e.name: e for e in model.springs if e.kind == "bearing"}
+    assert set(springs) == set(want)
+    for name, (dof, k) in want.items():
+        e = springs[name]
+        assert e.k == k
+        unit = np.zeros(model.n)
+        unit[col[dof]] = 1.0
+        assert np.array_equal(e.a, unit)
