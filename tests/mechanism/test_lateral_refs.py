@@ -184,7 +184,7 @@ def _bevel_pair(sigma: float) -> dict:
     }
 
 
-@pytest.mark.parametrize("sigma", [60.0, -60.0, 120.0, 45.0])
+@pytest.mark.parametrize("sigma", [60.0, -60.0, 120.0, 45.0, 90.0])
 @pytest.mark.parametrize("driver", ["a", "b"])
 def test_bevel_row_at_any_shaft_angle_equals_the_hand_projection(sigma, driver):
     """Σ ≠ 90°: pitch-cone angles tan δ_a = sin Σ/(z_b/z_a + cos Σ), δ_b = Σ − δ_a (ISO
@@ -222,11 +222,13 @@ Z_FIX, Z_PIN, Z_SUN, Z_PL, Z_RING = 20, 20, 30, 20, 70  # ring = sun + 2 planet
 D_FIX = math.radians(30.0)  # pitch-cone angles 30° + 30°: a 60° miter pair (z_a = z_b)
 
 
-def _cage(pin_first: bool, sun_bearing: bool = True) -> dict:
+def _cage(pin_first: bool, sun_bearing: bool = True, delta: float = D_FIX,
+          turn: float = 1.0) -> dict:
     """Cage turning in the frame, carrying a bevel pinion rolling on a bevel gear fixed to the
     frame (gear a = the frame) and a planet between a sun and a ring fixed to the frame, the
     planet being side a of both its pairs (the [[planetary]] convenience puts it on side b).
-    Hand-made pairs: the planet has no planet angle (ψ = 0 from the cage's x̂)."""
+    Hand-made pairs: the planet has no planet angle (ψ = 0 from the cage's x̂). Bevel pitch-cone
+    angles δ + δ (z_a = z_b), the pinion's axis turned by ``turn`` × 2δ (seed 000 signs)."""
     pin = [{"links": ["cage", "pin"], "axis": 2}]
     pl = [{"links": ["cage", "pl"], "axis": 3}]
     links = [{"link": "cage", "inertia_kgm2": 0.02, "mass_kg": 3.0, "bearing_n_per_m": 2e8},
@@ -242,8 +244,9 @@ def _cage(pin_first: bool, sun_bearing: bool = True) -> dict:
         + (pin + pl if pin_first else pl + pin),
         "gear_pairs": [
             {"name": "fix", "a": {"link": "housing", "teeth": Z_FIX,
-                                  "pitch_angle_deg": -math.degrees(D_FIX)},
-             "b": {"link": "pin", "teeth": Z_PIN, "pitch_angle_deg": math.degrees(D_FIX)}},
+                                  "pitch_angle_deg": -turn * math.degrees(delta)},
+             "b": {"link": "pin", "teeth": Z_PIN,
+                   "pitch_angle_deg": turn * math.degrees(delta)}},
             {"name": "sun", "a": {"link": "pl", "teeth": Z_PL},
              "b": {"link": "sun", "teeth": Z_SUN}},
             {"name": "ring", "a": {"link": "pl", "teeth": Z_PL},
@@ -257,11 +260,11 @@ def _cage(pin_first: bool, sun_bearing: bool = True) -> dict:
     }
 
 
-def _cage_model(pin_first: bool):  # noqa: ANN202
-    return model_from_config(parse_config(_cage(pin_first)), ["cage"])
+def _cage_model(pin_first: bool, delta: float = D_FIX, turn: float = 1.0):  # noqa: ANN202
+    return model_from_config(parse_config(_cage(pin_first, True, delta, turn)), ["cage"])
 
 
-def _fix_hand(model) -> np.ndarray:  # noqa: ANN001
+def _fix_hand(model, delta: float = D_FIX) -> np.ndarray:  # noqa: ANN001
     """Hand projection for the pair 'fix': gear a fixed; the pinion turns with the cage and on
     its pin, and its centre moves with the cage's x, y (documented: a link without lateral DOFs
     moves with its carrier)."""
@@ -270,23 +273,26 @@ def _fix_hand(model) -> np.ndarray:  # noqa: ANN001
     mesh = next(m for m in model.meshes if m.name == "fix")
     moves = {"a": [], "b": [("cage.theta", e_c), ("pin.theta", e_p),
                             ("cage.x", np.cross(Z_HAT, e_c)), ("cage.y", Z_HAT)]}
-    return _hand_bevel_row(model, mesh, MOD * Z_FIX / 2, D_FIX, _unit(0.0), moves)
+    return _hand_bevel_row(model, mesh, MOD * Z_FIX / 2, delta, _unit(0.0), moves)
 
 
-@pytest.mark.parametrize("pin_first", [True, False])
-def test_bevel_gear_on_the_frame_against_the_hand_projection(pin_first):
+@pytest.mark.parametrize(("pin_first", "delta_deg", "turn"),
+                         [(True, 30.0, 1.0), (False, 30.0, 1.0), (True, 30.0, -1.0),
+                          (True, 15.0, 1.0), (True, 15.0, -1.0), (True, 40.0, 1.0)])
+def test_bevel_gear_on_the_frame_against_the_hand_projection(pin_first, delta_deg, turn):
     """Gear a = the frame: the torsional columns and the out-of-sketch column of the mesh row
-    equal ±N·(u_a − u_b) by hand with one sign; the pinion's axis makes 2δ = 60° with the
-    cage's (the in-sketch column cage.x misses the axial part: see the xfail below)."""
-    model = _cage_model(pin_first)
+    equal ±N·(u_a − u_b) by hand with one sign; the pinion's axis makes 2δ with the cage's (the
+    in-sketch column cage.x misses the axial part: see the xfail below)."""
+    delta = math.radians(delta_deg)
+    model = _cage_model(pin_first, delta, turn)
     col = {nm: i for i, nm in enumerate(model.dof_names)}
     phi = _axes(model)
-    assert abs(math.cos(phi["pin"] - phi["cage"])) == pytest.approx(math.cos(2 * D_FIX),
+    assert abs(math.cos(phi["pin"] - phi["cage"])) == pytest.approx(abs(math.cos(2 * delta)),
                                                                      abs=1e-12)
     mesh = next(m for m in model.meshes if m.name == "fix")
     g = _unit(mesh.psi)
-    assert abs(g @ _unit(phi["cage"])) == pytest.approx(math.cos(D_FIX), abs=1e-12)
-    hand = _fix_hand(model)
+    assert abs(g @ _unit(phi["cage"])) == pytest.approx(math.cos(delta), abs=1e-12)
+    hand = _fix_hand(model, delta)
     exact = [col[x] for x in ("cage.theta", "pin.theta", "cage.y")]
     sigma = math.copysign(1.0, mesh.a[exact] @ hand[exact])
     np.testing.assert_allclose(mesh.a[exact], sigma * hand[exact], rtol=0, atol=1e-12)
@@ -453,3 +459,81 @@ def test_bearing_springs_by_direction():
         unit = np.zeros(model.n)
         unit[col[dof]] = 1.0
         assert np.array_equal(e.a, unit)
+
+
+def _two_stages() -> dict:
+    """Two fixed-ring stages in series (the first carrier is the second sun), 3 planets each."""
+    def stage(name: str, sun: str, carrier: str) -> dict:
+        return {"name": name, "sun": sun, "ring": "housing", "carrier": carrier,
+                "sun_teeth": ZS, "planet_teeth": ZP, "ring_teeth": ZR, "n_planets": 3}
+
+    central = {"s1": 1.0, "c1": 2.0, "c2": 3.0}
+    links = ([{"link": x, "inertia_kgm2": 0.01, "mass_kg": m, "bearing_n_per_m": 1e8}
+              for x, m in central.items()]
+             + [{"link": f"{s}.planet{i + 1}", "inertia_kgm2": 1e-4, "mass_kg": mp,
+                 "bearing_n_per_m": 2e8} for s, mp in (("A", 0.5), ("B", 0.7)) for i in range(3)])
+    return {"frame": "housing", "links": ["housing", "s1", "c1", "c2"],
+            "planetary": [stage("A", "s1", "c1"), stage("B", "c1", "c2")],
+            "dynamics": {"module_m": MOD, "lateral": True, "links": links,
+                         "meshes": [{"pair": p, "stiffness_n_per_m": 3e8} for p in "AB"]}}
+
+
+def test_each_carrier_frame_holds_its_own_planets():
+    """Two carriers: one rotating frame each, turning at its carrier's rate, holding the
+    central members (coaxial with it) and its own planets only; K_Ω = Σ m DᵀD by hand (seed
+    003 eqs 3.4-3.8): a carrier's translation carries its planets' masses, its rotation
+    Σ m_p r_c² (the orbit)."""
+    model = model_from_config(parse_config(_two_stages()))
+    col = {nm: i for i, nm in enumerate(model.dof_names)}
+    r_c = MOD * (ZS + ZP) / 2
+    planets = {"A": 0.5, "B": 0.7}
+    frames = {"c1": "A", "c2": "B"}
+    assert len(model.rotating) == 2
+    for (rate, gyro, k_om), (carrier, stage) in zip(model.rotating, frames.items(),
+                                                    strict=True):
+        unit = np.zeros(model.n)
+        unit[col[f"{carrier}.theta"]] = 1.0
+        assert np.array_equal(rate, unit)
+        mp = planets[stage]
+        want = {"s1.x": 1.0, "c1.x": 2.0, "c2.x": 3.0}
+        want[f"{carrier}.x"] += 3 * mp
+        want |= {k.replace(".x", ".y"): v for k, v in want.items()}
+        want |= {f"{stage}.planet{i + 1}.{d}": mp for i in range(3) for d in ("zeta", "eta")}
+        want[f"{carrier}.theta"] = 3 * mp * r_c**2
+        got = {nm: k_om[i, i] for nm, i in col.items() if np.abs(k_om[i]).max() > 0}
+        assert got == pytest.approx(want, rel=1e-12)
+        other = "B" if stage == "A" else "A"
+        rows = [i for nm, i in col.items() if nm.startswith(f"{other}.planet")]
+        assert np.abs(gyro[rows]).max() == 0.0
+
+
+@pytest.mark.parametrize("position_deg", [None, 35.0])
+def test_parallel_pair_row_from_the_rigid_body_kinematics(position_deg):
+    """Two gears turning in the frame, b's centre at ψ from a's (position_angle_deg, default
+    0): the row = ±n·(u_a(C) − u_b(C)) at the pitch point C = r_a (cos ψ, sin ψ), u = d + θ ẑ ×
+    (C − centre), n on one of the two lines of action at ±α from the common tangent."""
+    d = _bevel_pair(90.0)
+    d["parallel"] = [{"name": "p", "a": {"link": "a", "teeth": Z_IN},
+                      "b": {"link": "b", "teeth": Z_OUT}}]
+    del d["bevel"]
+    if position_deg is not None:
+        d["dynamics"]["meshes"][0]["position_angle_deg"] = position_deg
+    model = model_from_config(parse_config(d), ["a"])
+    col = {nm: i for i, nm in enumerate(model.dof_names)}
+    assert _axes(model)["b"] == 0.0
+    psi = math.radians(position_deg or 0.0)
+    radial = np.array([math.cos(psi), math.sin(psi)])
+    r_a, r_b = MOD * Z_IN / 2, MOD * Z_OUT / 2
+    c = r_a * radial
+    c_b = (r_a + r_b) * radial
+    got = model.meshes[0].a
+    fits = []
+    for flank in (1.0, -1.0):
+        n = _zx(radial) * math.cos(ALPHA) + flank * radial * math.sin(ALPHA)
+        hand = np.zeros(model.n)
+        hand[[col["a.x"], col["a.y"]]] += n
+        hand[[col["b.x"], col["b.y"]]] -= n
+        hand[col["a.theta"]] += n @ _zx(c)
+        hand[col["b.theta"]] -= n @ _zx(c - c_b)
+        fits.append(np.abs(got - math.copysign(1.0, got @ hand) * hand).max())
+    assert min(fits) < 1e-12
