@@ -282,7 +282,7 @@ def _fix_hand(model, delta: float = D_FIX) -> np.ndarray:  # noqa: ANN001
 def test_bevel_gear_on_the_frame_against_the_hand_projection(pin_first, delta_deg, turn):
     """Gear a = the frame: the torsional columns and the out-of-sketch column of the mesh row
     equal ±N·(u_a − u_b) by hand with one sign; the pinion's axis makes 2δ with the cage's (the
-    in-sketch column cage.x misses the axial part: see the xfail below)."""
+    in-sketch column cage.x, with the axial part of the carried pinion, is the next test)."""
     delta = math.radians(delta_deg)
     model = _cage_model(pin_first, delta, turn)
     col = {nm: i for i, nm in enumerate(model.dof_names)}
@@ -300,8 +300,6 @@ def test_bevel_gear_on_the_frame_against_the_hand_projection(pin_first, delta_de
     assert np.abs(mesh.a[others]).max() == 0.0
 
 
-@pytest.mark.xfail(strict=True, reason="bevel_translation drops the axial part sin α sin δ ê·d "
-                   "of a gear whose centre moves with its carrier (reported to the lead)")
 def test_carried_bevel_pinion_full_projection():
     """The pinion's centre moves with the cage's x̂ (in the sketch), which has a component
     along the pinion's own axis: the full contact-normal projection N·d includes

@@ -198,7 +198,12 @@ def bevel_translation(m: GearMesh, torsional: np.ndarray, psi: float, alpha: flo
     pitch-cone angle, cos δ = |ĝ·ê| with ĝ = e^{iψ}, ê the gear axis); along ŷ (out of the
     sketch) by cos α ŷ·d. Hence, up to the sign of the torsional row,
 
-        δ_lat = σ [sin α (cos δ_a ρ̂_a·d_a + cos δ_b ρ̂_b·d_b) + cos α ŷ·(d_a − d_b)],
+        δ_lat = σ [sin α ŝ·(d_a − d_b) + cos α ŷ·(d_a − d_b)],
+
+ŝ in the sketch, normal to the generator, from gear a towards gear b (ŝ·ρ̂_a = cos δ_a,
+ŝ·ρ̂_b = −cos δ_b: for centres moving normal to their axes this is
+cos δ_a ρ̂_a·d_a + cos δ_b ρ̂_b·d_b; a pinion carried by a cage also moves along its own
+axis, which ŝ counts),
 
     σ = ±1 such that the tangential direction matches the torsional row: a rotation of gear a
     about its axis ê_a moves its mean point along (ê_a × ρ̂_a)·ŷ. The axial components of the
@@ -208,12 +213,11 @@ def bevel_translation(m: GearMesh, torsional: np.ndarray, psi: float, alpha: flo
     (:func:`lateral_map_3d`)."""
     n = len(torsional)
     g = np.array([math.cos(psi), math.sin(psi)])
-    rho, cosd = [], []
+    rho = []
     for link in (m.link_a, m.link_b):
         e = np.array([math.cos(phi[link]), math.sin(phi[link])])
         r = g - (g @ e) * e
         rho.append(r / np.linalg.norm(r))
-        cosd.append(abs(float(g @ e)))
     if m.link_a in own:
         e_a = np.array([math.cos(phi[m.link_a]), math.sin(phi[m.link_a])])
         tang, coef = e_a[0] * rho[0][1] - e_a[1] * rho[0][0], torsional[own[m.link_a]]
@@ -224,5 +228,11 @@ def bevel_translation(m: GearMesh, torsional: np.ndarray, psi: float, alpha: flo
         return np.zeros(n)
     sigma = math.copysign(1.0, coef * tang)
     da, db = centre
-    sep = cosd[0] * (rho[0] @ da[:2]) + cosd[1] * (rho[1] @ db[:2])
+    # ŝ: in the sketch, normal to the generator, from gear a towards gear b (ŝ·ρ̂_a = cos δ_a,
+    # ŝ·ρ̂_b = −cos δ_b). For a centre moving normal to its own axis ŝ·d = cos δ ρ̂·d; a centre
+    # that moves with its carrier (a differential pinion) also moves along its own axis, whose
+    # part sin δ ê·d counts as well
+    s_hat = np.array([-g[1], g[0]])
+    s_hat *= math.copysign(1.0, s_hat @ rho[0])
+    sep = s_hat @ (da[:2] - db[:2])
     return sigma * (math.sin(alpha) * sep + math.cos(alpha) * (da[2] - db[2]))
