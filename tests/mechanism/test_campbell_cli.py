@@ -43,7 +43,7 @@ def test_parse_speeds() -> None:
     s, u = parse_speeds("10,20.5 rad/s")
     assert u == "rad/s" and s == pytest.approx([10, 20.5])
     assert parse_speeds("0:50:2 hz")[1] == "Hz" and parse_speeds("100")[1] == "rpm"
-    for bad, msg in (("0:3000 rpm", "START:STOP:COUNT"), ("0:1:0", "COUNT"),
+    for bad, msg in (("0:3000 rpm", "START:STOP:COUNT"), ("0:1:0", "COUNT must be ≥ 1"),
                      ("0:1:3 furlongs", "unknown speed unit"), ("nan,1", "finite"),
                      ("a b c", "expected")):
         with pytest.raises(InputError, match=msg):

@@ -146,6 +146,19 @@ def test_bad_cutoff_is_named() -> None:
         parse_config(d)
 
 
+def test_cutoff_below_the_lowest_elastic_mode_is_refused() -> None:
+    """A cutoff at or below the lowest elastic mode would give every mode ζ f/f_c (up to
+    ≈ 2700 on the top mode of seed 002 at 0.1 Hz) and shrink the damped step by orders of
+    magnitude: refused before the run, naming the field and the lowest mode."""
+    from geardyn.run import run_simulation
+
+    d = load_config(EXAMPLE).model_dump(exclude_none=True)
+    d["transmission"]["modal_damping_cutoff_hz"] = 0.1
+    with pytest.raises(ConfigError, match=r"modal_damping_cutoff_hz: 0.1 Hz is at or below "
+                                          r"the lowest elastic mode \(75"):
+        run_simulation(parse_config(d), revolutions=0.05)
+
+
 def test_seed002_run_with_truncated_damping() -> None:
     """Seed 002, 0.3 revolution from 360 rpm with the modal damping above 2 kHz replaced by
     the stiffness-proportional term: the stable step is the damped limit of the highest mode,

@@ -71,6 +71,8 @@ def parse_speeds(spec: str) -> tuple[np.ndarray, str]:
             speeds = np.linspace(float(a), float(b), count)
         else:
             speeds = np.array([float(x) for x in text.split(",") if x])
+    except InputError:
+        raise
     except ValueError:
         raise InputError(f"--campbell: expected 'START:STOP:COUNT UNIT' or 'S1,S2,… UNIT' "
                          f"(e.g. '0:3000:7 rpm'), got {spec!r}") from None

@@ -138,7 +138,7 @@ def fe_campbell(model: TransmissionModel, prepared, speeds_rpm: np.ndarray,  # n
 
         ref = reference or next(iter(model.shaft_nodes))
         if ref not in model.shaft_nodes:
-            raise InputError(f"reference shaft '{ref}' unknown (one of "
+            raise InputError(f"--speed-of / reference shaft: '{ref}' is not a shaft (one of "
                              f"{', '.join(model.shaft_nodes)})")
         ratios = speed_ratios(model, ref)
     ref = next(iter(ratios))  # speed_ratios puts the reference shaft first

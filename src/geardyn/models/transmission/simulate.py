@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn.elements.beam import ShaftSection, timoshenko_element
-from geardyn.errors import GeardynError, InputError
+from geardyn.errors import ConfigError, GeardynError, InputError
 from geardyn.models.transmission.assembly import (
     TransmissionModel,
     build_model,
@@ -124,6 +124,15 @@ def damping_operator(prep: Prepared, cutoff_hz: float | None
     if cutoff_hz is None:
         return prep.C, prep.dt_stable
     m = prep.model
+    elastic = np.sort(np.asarray(prep.frequencies_hz, float))
+    elastic = elastic[elastic >= 0.5]  # above the drive line's rigid-body rotation
+    if elastic.size and cutoff_hz <= elastic[0]:
+        raise ConfigError(
+            f"transmission.modal_damping_cutoff_hz: {cutoff_hz:g} Hz is at or below the lowest "
+            f"elastic mode ({elastic[0]:.4g} Hz): every mode would get ζ·f/f_c, up to "
+            f"{m.modal_damping * elastic[-1] / cutoff_hz:.3g} on the highest, and the damped "
+            "explicit step would shrink accordingly; choose a cutoff above the modes of "
+            "interest (e.g. 2-4 kHz for seed 002)")
     op = explicit.modal_damping(m.M, prep.K_lin, m.modal_damping, cutoff_hz)
     xi = float(op.ratios[-1])
     return op, prep.dt_stable * 0.5 * explicit.damped_step_limit(xi)
