@@ -102,3 +102,14 @@ def check_record_size(rows: int, columns: int, advice: str) -> None:
         raise InputError(f"the run would record {rows:,} samples × {columns} values = "
                          f"{need / 1e9:.3g} GB, more than a quarter of the memory "
                          f"({mem / 1e9:.3g} GB): {advice}")
+
+
+def check_same_run(saved: dict, run_id: dict) -> None:
+    """Refuse to resume from a checkpoint of another run: every entry of ``run_id`` (scheme,
+    steps, step size, sizes …) must equal the saved one (0-d arrays compared as scalars)."""
+    for k, val in run_id.items():
+        got = saved.get(k)
+        got = got.item() if hasattr(got, "ndim") and got.ndim == 0 else got
+        if got != val:
+            raise InputError(f"resume: the checkpoint is of another run ({k} = {got!r}, this "
+                             f"run has {val!r})")

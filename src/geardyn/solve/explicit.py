@@ -607,12 +607,9 @@ def run_loop(
 
 def _resume(saved: dict, run_id: dict, st: dict, rec: np.ndarray) -> int:
     """Fill the loop state and the records from checkpoint ``saved`` (same run only)."""
-    for k, val in run_id.items():
-        got = saved.get(k)
-        got = got.item() if isinstance(got, np.ndarray) and got.ndim == 0 else got
-        if got != val:
-            raise InputError(f"resume: the checkpoint is of another run ({k} = {got!r}, this "
-                             f"run has {val!r})")
+    from geardyn.solve.control import check_same_run
+
+    check_same_run(saved, run_id)
     for k in STATE:
         st[k][...] = saved[k]
     done = int(saved["step"])

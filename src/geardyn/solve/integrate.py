@@ -1109,14 +1109,9 @@ def newmark(
 
 def _resume_newmark(saved: dict, run_id: dict, st: dict, out: dict) -> tuple[int, tuple]:
     """Fill the state and the saved rows from checkpoint ``saved`` (same run only)."""
-    from geardyn.errors import InputError
+    from geardyn.solve.control import check_same_run
 
-    for k, val in run_id.items():
-        got = saved.get(k)
-        got = got.item() if isinstance(got, np.ndarray) and got.ndim == 0 else got
-        if got != val:
-            raise InputError(f"resume: the checkpoint is of another run ({k} = {got!r}, this "
-                             f"run has {val!r})")
+    check_same_run(saved, run_id)
     done = int(saved["step"])
     for k in _STATE:
         st[k][...] = saved[k]
