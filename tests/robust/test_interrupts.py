@@ -51,6 +51,28 @@ def _wait_for_checkpoint(proc: subprocess.Popen, ckpt: Path, after_ns: int = 0,
     pytest.fail("no checkpoint written")
 
 
+def sigint_and_compare(proc: subprocess.Popen, out: Path, reference: xr.Dataset) -> int:
+    """Ctrl-C ``proc``: exit 130 with the message and no traceback, the partial result at
+    ``out`` has status ``interrupted`` and the same variables, its rows bit-identical to the
+    beginning of the uninterrupted ``reference``. Returns the number of rows written."""
+    proc.send_signal(signal.SIGINT)
+    text, _ = proc.communicate(timeout=60)
+    assert proc.returncode == 130, text
+    assert "interrupted by SIGINT" in text and "Traceback" not in text, text
+    with xr.open_dataset(out, engine="h5netcdf") as part:
+        assert part.attrs["status"] == "interrupted"
+        n = part.sizes["time"]
+        assert 1 < n < reference.sizes["time"]
+        # the computed part (before a kill and after a resume) is bit-identical to the
+        # beginning of the uninterrupted run
+        assert set(part.data_vars) == set(reference.data_vars)
+        for name in reference.data_vars:
+            assert np.array_equal(part[name].values, reference[name].isel(time=slice(0, n))
+                                  .values, equal_nan=True), name
+        assert np.array_equal(part["time"].values, reference["time"].values[:n])
+    return n
+
+
 def _chain(tmp_path: Path, command: list[str], out: Path, reference: xr.Dataset) -> None:
     ckpt = out.with_name(out.name + ".ckpt.npz")
     # (1) SIGKILL during the run
@@ -65,21 +87,7 @@ def _chain(tmp_path: Path, command: list[str], out: Path, reference: xr.Dataset)
     mtime = ckpt.stat().st_mtime_ns
     p = _start(command + ["--resume", "--checkpoint-every", "0.2"], tmp_path)
     _wait_for_checkpoint(p, ckpt, after_ns=mtime)
-    p.send_signal(signal.SIGINT)
-    text, _ = p.communicate(timeout=60)
-    assert p.returncode == 130, text
-    assert "interrupted by SIGINT" in text and "Traceback" not in text, text
-    with xr.open_dataset(out, engine="h5netcdf") as part:
-        assert part.attrs["status"] == "interrupted"
-        n = part.sizes["time"]
-        assert 1 < n < reference.sizes["time"]
-        # the computed part (before the kill and after the resume) is bit-identical to the
-        # beginning of the uninterrupted run
-        assert set(part.data_vars) == set(reference.data_vars)
-        for name in reference.data_vars:
-            assert np.array_equal(part[name].values, reference[name].isel(time=slice(0, n))
-                                  .values, equal_nan=True), name
-        assert np.array_equal(part["time"].values, reference["time"].values[:n])
+    sigint_and_compare(p, out, reference)
     assert ckpt.exists() and ckpt.stat().st_mtime_ns > mtime, "Ctrl-C writes a checkpoint"
 
 

@@ -4,7 +4,6 @@ Ctrl-C and --resume work through `simulate` (and across the alias: same checkpoi
 
 from __future__ import annotations
 
-import signal
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +15,7 @@ from geardyn.cli import app
 from geardyn.config import load_config
 from geardyn.errors import ConfigError, InputError
 from geardyn.run import run_simulation, simulated_model
-from tests.robust.test_interrupts import _start, _wait_for_checkpoint
+from tests.robust.test_interrupts import _start, _wait_for_checkpoint, sigint_and_compare
 
 ROOT = Path(__file__).resolve().parents[2]
 EX = ROOT / "examples"
@@ -103,17 +102,6 @@ def test_simulate_fe_sigint_and_resume_through_the_alias(tmp_path) -> None:
         mtime = ckpt.stat().st_mtime_ns if ckpt.exists() else 0
         p = _start(command + ["--revolutions", "20", "--checkpoint-every", "0.2"], tmp_path)
         _wait_for_checkpoint(p, ckpt, after_ns=mtime)
-        p.send_signal(signal.SIGINT)
-        text, _ = p.communicate(timeout=60)
-        assert p.returncode == 130, text
-        assert "interrupted by SIGINT" in text and "Traceback" not in text, text
-        with xr.open_dataset(out, engine="h5netcdf") as part:
-            assert part.attrs["status"] == "interrupted"
-            n = part.sizes["time"]
-            assert 1 < n < reference.sizes["time"]
-            for name in reference.data_vars:
-                assert np.array_equal(part[name].values,
-                                      reference[name].isel(time=slice(0, n)).values,
-                                      equal_nan=True), name
+        n = sigint_and_compare(p, out, reference)
         sizes.append(n)
     assert sizes[1] > sizes[0]
