@@ -9,7 +9,14 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 
 class _M(BaseModel):
@@ -85,14 +92,43 @@ class MeshParams(_M):
 
 
 class FaultParams(_M):
-    """Seed 004 ch. 9 tooth fault: crack (fraction of tooth thickness) or spall."""
+    """Seed 004 ch. 9 tooth fault: crack (fraction of tooth thickness) or spall, on one tooth of
+    the sun, the ring or planet ``planet`` (1-based, default 1) of the stage.
+
+    It acts on every mesh model (seed 004 ch. 5 stiffness reduction; see
+    :func:`geardyn.models.planetary.build.mesh_laws`): a sun or ring tooth meets every planet in
+    turn, a planet tooth meets that planet's sun and ring meshes only.
+    """
 
     kind: Literal["crack", "spall"]
     gear: Literal["sun", "ring", "planet"]
+    planet: int | None = Field(
+        None, description="planet number (1-based) of a gear = 'planet' fault; default 1; "
+        "not allowed for sun and ring faults")
     crack_fraction: float = Field(0.0, ge=0, lt=1, description="crack: s → s(1 − V)")
     spall_depth_m: float = Field(0.0, ge=0, description="spall depth D (m)")
     spall_centre: float = Field(0.6, gt=0, lt=1, description="fraction of the path of contact")
     spall_half_width: float = Field(0.05, gt=0, lt=1, description="fraction of the path")
+
+    @field_validator("planet")
+    @classmethod
+    def _planet(cls, v: int | None, info: ValidationInfo) -> int | None:
+        if v is None:
+            return v
+        gear = info.data.get("gear")
+        if gear in ("sun", "ring"):
+            raise ValueError(f"a {gear} fault sits on a {gear} tooth, which meets every planet: "
+                             f"planet = {v} is only for gear = 'planet' (remove it)")
+        if v < 1:
+            raise ValueError(f"planets are numbered from 1 (got {v})")
+        return v
+
+    @property
+    def planet_number(self) -> int | None:
+        """The faulty planet (1-based) of a planet fault, None for a sun or ring fault."""
+        if self.gear != "planet":
+            return None
+        return 1 if self.planet is None else self.planet
 
 
 class PlanetPassForce(_M):
@@ -306,6 +342,27 @@ class PlanetaryDynamics(_M):
     simulation: Simulation | None = None
 
 
+def _check_faults(sd: StageDynamics, st: object, where: str) -> list[str]:
+    """Faults against the mechanism stage: the planet number exists (1 … n_planets); a planet
+    fault needs a simple planet (a stepped planet's tooth meets either the sun or the ring,
+    and the config does not say which step is faulty)."""
+    problems = []
+    n = st.n_planets  # type: ignore[attr-defined]
+    for j, f in enumerate(sd.faults):
+        k = f.planet_number
+        if k is None:
+            continue
+        if not 1 <= k <= n:
+            problems.append(f"{where}.faults[{j}].planet: planet {k} does not exist: stage "
+                            f"'{sd.stage}' has {n} planet{'s' if n > 1 else ''} (1 … {n})")
+        if st.stepped:  # type: ignore[attr-defined]
+            problems.append(
+                f"{where}.faults[{j}].gear: a planet tooth fault on stepped planets cannot be "
+                "represented (the model has one planet tooth count and the config does not say "
+                "whether the faulty tooth is on the sun-side or the ring-side step)")
+    return problems
+
+
 def check_planetary_dynamics(cfg: object) -> list[str]:
     """Cross-checks against the mechanism: stage names, planets fitting, body names."""
     pd: PlanetaryDynamics | None = getattr(cfg, "planetary_dynamics", None)
@@ -354,6 +411,7 @@ def check_planetary_dynamics(cfg: object) -> list[str]:
                     f"{where}.{label}: inconsistent with the radii: r_c cos α = {got * 1e3:.3f} mm "
                     f"but the base radii require {target * 1e3:.3f} mm (rule r_c cos α_s = r_bs + "
                     f"r_bp, r_c cos α_r = r_br − r_bp, to 0.5 %); {hint}")
+        problems += _check_faults(sd, st, where)
         if sd.pin_errors_m is not None and len(sd.pin_errors_m) != st.n_planets:
             problems.append(f"{where}.pin_errors_m: {len(sd.pin_errors_m)} values for "
                             f"{st.n_planets} planets")

@@ -4,7 +4,8 @@ configured faults with the component each one sits on (the expected alarm of a d
 Faults live in three places of a config:
 
 * ``planetary_dynamics.stages[].faults`` — seed 004 ch. 9 tooth crack / spall on the sun, the
-  ring or planet 1 of a stage;
+  ring or planet ``planet`` (default 1) of a stage: a planet fault sits on that planet's
+  component (``'planetary.planet2/z32'``);
 * ``gear_geometry[].cracks`` / ``.spalls`` — root crack / spall on side ``a`` or ``b`` of a named
   gear pair (every planet of a stage for an unindexed ``'<stage>.sun-planet'`` entry);
 * ``transmission.bearings[].outer_spall`` — outer-race spall of an FE-transmission bearing.
@@ -89,16 +90,19 @@ def _planetary_faults(cfg: GeardynConfig, meshes: dict[str, GearMesh]) -> list[C
         return out
     for i, sd in enumerate(pd.stages):
         for j, f in enumerate(sd.faults):
-            mesh_name = f"{sd.stage}.{'ring' if f.gear == 'ring' else 'sun'}-planet1"
+            planet = f.planet_number or 1
+            mesh_name = f"{sd.stage}.{'ring' if f.gear == 'ring' else 'sun'}-planet{planet}"
             mesh = meshes.get(mesh_name)
             side = "b" if f.gear == "planet" else "a"
-            component, link = (_wheel(mesh, side) if mesh is not None
-                               else (f"{sd.stage}.{f.gear}", ""))
+            fallback = f"{sd.stage}.{f.gear}" + (str(planet) if f.gear == "planet" else "")
+            component, link = _wheel(mesh, side) if mesh is not None else (fallback, "")
             if f.kind == "crack":
                 what = f"tooth crack, {f.crack_fraction:.0%} of the tooth thickness"
             else:
                 what = (f"tooth spall, depth {f.spall_depth_m * 1e3:.3g} mm at "
                         f"{f.spall_centre:.2f} of the path of contact")
+            if f.gear == "planet":
+                what += f", on planet {planet}"
             out.append(ConfiguredFault(component, "wheel", what,
                                        f"planetary_dynamics.stages[{i}].faults[{j}]", link))
     return out

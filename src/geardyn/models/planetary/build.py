@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -11,6 +12,7 @@ from geardyn.config.planetary import PlanetaryDynamics, StageDynamics
 from geardyn.errors import ConfigError, InputError
 from geardyn.gears import seed004_params, square_wave, torsional_stiffness_curve
 from geardyn.gears.torsional import (
+    TorsionalMeshParams,
     pairs_in_contact,
     torsional_mesh_stiffness,
     wang_crack_curve,
@@ -163,26 +165,74 @@ def mesh_laws(
     meshes with a ``load_law`` that gives no ``force_n`` (see :func:`static_mesh_forces`)."""
     pd: PlanetaryDynamics = cfg.planetary_dynamics  # type: ignore[attr-defined]
     laws: dict[tuple[str, str], MeshLaw] = {}
-    for sd in pd.stages:
+    for i, sd in enumerate(pd.stages):
         info = model.stages[sd.stage]
         for which, m in (("sun", sd.sun_mesh), ("ring", sd.ring_mesh)):
-            x1 = np.arange(SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
-            if m.model == "constant":
-                laws[(sd.stage, which)] = MeshLaw.constant(m.stiffness_n_per_m)  # type: ignore[arg-type]
-            elif m.model == "sine":
-                k = m.stiffness_n_per_m * (1 + m.amplitude * np.sin(2 * math.pi * x1))  # type: ignore[operator]
-                laws[(sd.stage, which)] = MeshLaw(k)
-            elif m.model == "square":
-                kx, kn, c = m.k_max_n_per_m, m.k_min_n_per_m, m.contact_ratio
-                if m.load_law is not None:
-                    kx, kn, c = _loaded(m, (mesh_force_n or {}).get((sd.stage, which)),
-                                        f"stages '{sd.stage}' {which}_mesh")
-                k = square_wave(x1, kx, kn, c)  # type: ignore[arg-type]
-                laws[(sd.stage, which)] = MeshLaw(k)
-            else:
+            if m.model == "seed004":
                 laws[(sd.stage, which)] = _seed004_law(sd, which, info.z_sun, info.z_ring,
-                                                       info.z_planet, len(info.psi))
+                                                       info.z_planet, info.psi)
+                continue
+            contact = m.contact_ratio
+            if m.model == "constant":
+                kc = float(m.stiffness_n_per_m)  # type: ignore[arg-type]
+
+                def shape(x: np.ndarray, kc: float = kc) -> np.ndarray:
+                    return np.full(x.shape, kc)
+            elif m.model == "sine":
+                ks, amp = float(m.stiffness_n_per_m), m.amplitude  # type: ignore[arg-type]
+
+                def shape(x: np.ndarray, ks: float = ks, amp: float = amp) -> np.ndarray:
+                    return ks * (1 + amp * np.sin(2 * math.pi * x))
+            else:
+                kx, kn, contact = m.k_max_n_per_m, m.k_min_n_per_m, m.contact_ratio
+                if m.load_law is not None:
+                    kx, kn, contact = _loaded(m, (mesh_force_n or {}).get((sd.stage, which)),
+                                              f"stages '{sd.stage}' {which}_mesh")
+
+                def shape(x: np.ndarray, kx: float = kx, kn: float = kn,  # type: ignore[misc]
+                          c: float = contact) -> np.ndarray:
+                    return square_wave(x, kx, kn, c)
+            faults = [f for f in sd.faults if f.gear in (which, "planet")]
+            if faults:
+                if contact is None:
+                    contact = standard_contact_ratio(
+                        sd, which, info.z_sun, info.z_ring, info.z_planet,
+                        f"planetary_dynamics.stages[{i}].{which}_mesh.contact_ratio")
+                laws[(sd.stage, which)] = _faulty_model_law(
+                    sd, which, shape, float(contact), info.z_sun, info.z_ring, info.z_planet,
+                    info.psi)
+            elif m.model == "constant":
+                laws[(sd.stage, which)] = MeshLaw.constant(m.stiffness_n_per_m)  # type: ignore[arg-type]
+            else:
+                laws[(sd.stage, which)] = MeshLaw(shape(np.arange(SAMPLES_PER_CYCLE)
+                                                        / SAMPLES_PER_CYCLE))
     return laws
+
+
+def standard_contact_ratio(sd: StageDynamics, which: str, zs: int, zr: int, zp: int,
+                           field: str = "contact_ratio") -> float:
+    """Transverse contact ratio of the stage's sun–planet or ring–planet mesh with standard
+    full-depth teeth (h_a* = 1, no profile shift) at the stage's pressure angle: ε = (path of
+    contact)/(base pitch) from the tip circles (:func:`geardyn.gears.geometry.mesh_geometry`,
+    module 1; ε does not depend on the module). Used by the tooth faults of the ``constant``
+    and ``sine`` meshes, whose laws carry no contact ratio."""
+    from geardyn.gears.geometry import GearBlank, mesh_geometry
+
+    if which == "sun":
+        a, b, alpha = GearBlank(zs), GearBlank(zp), sd.pressure_angle_sun_deg
+    else:
+        a, b, alpha = GearBlank(zp), GearBlank(zr, internal=True), sd.pressure_angle_ring_deg
+    try:
+        eps = mesh_geometry(a, b, 1.0, math.radians(alpha), 1.0, check=False).contact_ratio
+    except (ConfigError, InputError) as e:
+        raise ConfigError(f"{field}: a tooth fault on this mesh needs its contact ratio, and "
+                          f"the standard-tooth value is undefined ({e}); give contact_ratio"
+                          ) from None
+    if not 1.0 <= eps < 3.0:
+        raise ConfigError(f"{field}: a tooth fault on this mesh needs a contact ratio in [1, 3) "
+                          f"(seed 004 ch. 5 covers 1 to 3 pairs); the standard-tooth value is "
+                          f"{eps:.4g}: give contact_ratio")
+    return float(eps)
 
 
 def _loaded(m: object, force: float | None, where: str) -> tuple[float, float, float]:
@@ -320,7 +370,133 @@ def _nominal_ring_angle(model: PlanetaryModel, sim: object, stage: str, t: np.nd
     return float(ring @ rigid_velocity(model, sim.initial_speed_rpm)) * np.asarray(t, float)  # type: ignore[attr-defined]
 
 
-def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: int) -> MeshLaw:
+def _ring_entry_shift(zs: int, zr: int, psi: np.ndarray, planet: int) -> int:
+    """Whole mesh cycles M_n = (z_s + z_r)(ψ_n − ψ_1)/2π between planet n's ring and sun mesh
+    counts (rounded; an integer when the planets can be assembled, seed 004 Table 4-1).
+
+    With the mesh phasing of :func:`geardyn.models.planetary.dynamics.spring_rows` (integer
+    offsets: X_sn = z_s(θ_s − θ_c)/2π − z_s ψ'_n/2π, X_rn = z_r(θ_c − θ_r)/2π + z_r ψ'_n/2π − γ_rs,
+    ψ'_n = ψ_n − ψ_1, and z_s(θ_s − θ_c) = z_r(θ_c − θ_r) in rigid motion), X_rn − X_sn =
+    M_n − γ_rs: a planet tooth that enters the sun mesh at count 0 meets the ring half a planet
+    revolution later, at ring count ⌊z_p/2⌋ + M_n of that planet's table."""
+    d = (zs + zr) * (float(psi[planet - 1]) - float(psi[0])) / (2 * math.pi)
+    return int(round(d))
+
+
+def _entry_count(f: object, which: str, zs: int, zr: int, zp: int, psi: np.ndarray) -> int:
+    """Mesh count at which the faulty tooth of fault ``f`` enters contact in the tables of
+    the planet it meets: 0 for a sun or ring tooth (it meets each planet at that planet's
+    count 0: the integer offsets of the tables time it); for a planet tooth, 0 in the sun mesh
+    (seed 004 ch. 9: planet tooth 1 is the first in mesh with the sun) and ⌊z_p/2⌋ + M_n in the
+    ring mesh (:func:`_ring_entry_shift`)."""
+    if f.gear != "planet" or which == "sun":  # type: ignore[attr-defined]
+        return 0
+    n = f.planet_number  # type: ignore[attr-defined]
+    return (zp // 2 + _ring_entry_shift(zs, zr, psi, n)) % zp
+
+
+def _tooth_fault_curve(
+    p: TorsionalMeshParams, x: np.ndarray, off: float, faults: list, planet: int, which: str,
+    zs: int, zr: int, zp: int, psi: np.ndarray, thickness: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Seed 004 ch. 5 torsional stiffness K(X) (N·m/rad) of planet ``planet``'s sun or ring mesh
+    with the tooth faults that reach it, and the spall profile error (m, to add to e).
+
+    Crack (§5.3, :func:`~geardyn.gears.torsional.wang_crack_curve`): eq 5.14 with s → s(1 − V)
+    for the cracked pair while the tooth is in contact. Spall (§5.4): the reduction of eq 5.14
+    with s → s(1 − D/s) ramped by :func:`~geardyn.gears.torsional.wang_spall_reduction`, and
+    the profile error D·cos((posit − P)/W·π/2)^(1/5) (§7.8). ``thickness``: the tooth thickness
+    s (m) that the spall depth D is compared with. A planet fault reaches planet
+    ``f.planet_number`` only."""
+    eps = p.contact_ratio
+    z_gear = zs if which == "sun" else zr
+    k = torsional_stiffness_curve(p, x, 0.0, off)
+    err = np.zeros(len(x))
+    for f in faults:
+        if f.gear == "planet" and f.planet_number != planet:
+            continue
+        teeth = zp if f.gear == "planet" else z_gear
+        c0 = _entry_count(f, which, zs, zr, zp, psi)
+        if f.kind == "crack":
+            k = np.minimum(k, wang_crack_curve(p, x, f.crack_fraction, c0, teeth, 0.0, off))
+            continue
+        xs = x + off
+        rel = np.mod(xs - c0, teeth)
+        posit = np.where(rel <= eps, rel / eps, -1.0)
+        frac_eq = min(f.spall_depth_m / thickness, 0.99)
+        y, _ = pairs_in_contact(x, eps, 0.0, off)
+        dk = np.zeros(len(x))
+        for ny in (1, 2, 3):
+            sel = y == ny
+            if sel.any():
+                v = [0.0] * ny
+                v[0] = frac_eq
+                dk[sel] = torsional_mesh_stiffness(p, ny) - torsional_mesh_stiffness(
+                    p, ny, tuple(v))
+        red = np.where(posit >= 0, wang_spall_reduction(
+            np.maximum(posit, 0), f.spall_centre, f.spall_half_width, 1.0), 0.0) * dk
+        k = k - red
+        inside = (posit >= 0) & (np.abs(posit - f.spall_centre) < f.spall_half_width)
+        prof = np.zeros(len(x))
+        prof[inside] = f.spall_depth_m * np.cos(
+            (posit[inside] - f.spall_centre) / f.spall_half_width * math.pi / 2) ** 0.2
+        err = err - prof
+    return k, err
+
+
+def _fault_period(faults: list, z_gear: int, zp: int, base: int = 1) -> int:
+    """Mesh cycles after which the faulty tables repeat: z_gear for a sun/ring tooth, z_p for a
+    planet tooth (lcm with ``base``)."""
+    period = base
+    if any(f.gear != "planet" for f in faults):
+        period = math.lcm(period, z_gear)
+    if any(f.gear == "planet" for f in faults):
+        period = math.lcm(period, zp)
+    return period
+
+
+def _faulty_model_law(sd: StageDynamics, which: str,
+                      shape: Callable[[np.ndarray], np.ndarray], contact_ratio: float,
+                      zs: int, zr: int, zp: int, psi: np.ndarray) -> MeshLaw:
+    """A ``constant``, ``square`` or ``sine`` mesh law with tooth faults (issue 18).
+
+    The healthy law k(X) of the model is multiplied, wherever a faulty tooth is in contact, by
+    the relative reduction of the seed 004 ch. 5 model, K_fault(X)/K(X) (eq 5.14 with the crack
+    or spall of :func:`_tooth_fault_curve`), with the mesh's own contact ratio (pairs in
+    contact and the faulty tooth's contact span X ∈ [c₀, c₀ + ε] of its entry count c₀; X = 0 is
+    a tooth entry, as in the square wave's double-contact phase [0, ε − 1)). The stage gives
+    no tooth geometry (module, face width, root and shaft radii) for the potential-energy
+    stiffness of :mod:`geardyn.gears`, so the split of tooth and body compliance is that of the
+    seed 004 sun or ring mesh (:func:`~geardyn.gears.seed004_params`); the spall depth is
+    compared with the stage's own tooth thickness πm/2, m = 2 r_b/(z cos α) of the faulty gear.
+    """
+    p = replace(seed004_params(which), contact_ratio=contact_ratio)
+    faults = [f for f in sd.faults if f.gear in (which, "planet")]
+    z_gear = zs if which == "sun" else zr
+    period = _fault_period(faults, z_gear, zp)
+    x = np.arange(period * SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
+    healthy = torsional_stiffness_curve(p, x, 0.0, 0.0)
+    # one cycle tiled: outside the faulty tooth's contact the law equals the healthy one
+    k_model = np.tile(shape(x[:SAMPLES_PER_CYCLE]), period)
+    per_planet = {}
+    for pl in range(1, len(psi) + 1):
+        kf, err = _tooth_fault_curve(p, x, 0.0, faults, pl, which, zs, zr, zp, psi,
+                                     _stage_tooth_thickness(sd, zs))
+        per_planet[pl] = (k_model * (kf / healthy), float(period), err, float(period))
+    first = per_planet[1]
+    return MeshLaw(first[0], first[1], first[2], first[3], per_planet, integer_offsets=True)
+
+
+def _stage_tooth_thickness(sd: StageDynamics, zs: int) -> float:
+    """Pitch-circle tooth thickness πm/2 (m) of the stage, m = 2 r_b/(z cos α) from the sun's
+    base radius (all three gears share the module)."""
+    alpha = math.radians(sd.pressure_angle_sun_deg)
+    module = 2 * sd.sun.base_radius_m / (zs * math.cos(alpha))  # type: ignore[operator]
+    return math.pi * module / 2
+
+
+def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, psi: np.ndarray
+                 ) -> MeshLaw:
     p = seed004_params(which)
     eps = p.contact_ratio
     off = _pitch_offset(which, eps)
@@ -335,11 +511,9 @@ def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: in
     if any(f.gear == "planet" for f in faults):
         period = math.lcm(period, zp)
     x = np.arange(period * SAMPLES_PER_CYCLE) / SAMPLES_PER_CYCLE
-    base = torsional_stiffness_curve(p, x, 0.0, off)
     e = _seed004_errors(which, x, z_gear, zp, eps) if sd.transmission_error else np.zeros(1)
     per_planet = {}
-    for pl in range(1, n + 1):
-        k = base.copy()
+    for pl in range(1, len(psi) + 1):
         err = e.copy() if sd.transmission_error else np.zeros(len(x))
         if randomised:
             err = err + random_impulses(
@@ -348,38 +522,9 @@ def _seed004_law(sd: StageDynamics, which: str, zs: int, zr: int, zp: int, n: in
                 sd.random_error_probability,
                 (sd.random_error_seed, 0 if which == "sun" else 1, pl),
             )
-        for f in faults:
-            if f.gear == "planet" and pl != 1:
-                continue
-            teeth = zp if f.gear == "planet" else z_gear
-            # the faulty tooth enters contact at count 0 (planet 1; every planet in its own
-            # coordinate); a planet tooth meets the ring half a planet revolution later
-            c0 = (zp // 2) if (f.gear == "planet" and which == "ring") else 0
-            if f.kind == "crack":
-                k = np.minimum(k, wang_crack_curve(p, x, f.crack_fraction, c0, teeth, 0.0, off))
-            else:
-                xs = x + off
-                rel = np.mod(xs - c0, teeth)
-                posit = np.where(rel <= eps, rel / eps, -1.0)
-                frac_eq = min(f.spall_depth_m / p.tooth_thickness, 0.99)
-                y, _ = pairs_in_contact(x, eps, 0.0, off)
-                dk = np.zeros(len(x))
-                for ny in (1, 2, 3):
-                    sel = y == ny
-                    if sel.any():
-                        v = [0.0] * ny
-                        v[0] = frac_eq
-                        dk[sel] = torsional_mesh_stiffness(p, ny) - torsional_mesh_stiffness(
-                            p, ny, tuple(v))
-                red = np.where(posit >= 0, wang_spall_reduction(
-                    np.maximum(posit, 0), f.spall_centre, f.spall_half_width, 1.0), 0.0) * dk
-                k = k - red
-                inside = (posit >= 0) & (np.abs(posit - f.spall_centre) < f.spall_half_width)
-                prof = np.zeros(len(x))
-                prof[inside] = f.spall_depth_m * np.cos(
-                    (posit[inside] - f.spall_centre) / f.spall_half_width * math.pi / 2) ** 0.2
-                err = err - prof
-        per_planet[pl] = (k / p.r_pb**2, float(period), err, float(period))
+        k, prof = _tooth_fault_curve(p, x, off, faults, pl, which, zs, zr, zp, psi,
+                                     p.tooth_thickness)
+        per_planet[pl] = (k / p.r_pb**2, float(period), err + prof, float(period))
     first = per_planet[1]
     return MeshLaw(first[0], first[1], first[2], first[3], per_planet, integer_offsets=True)
 
