@@ -42,7 +42,7 @@ class EnsembleSpec(BaseModel):
         description="dynamic runs of the healthy baseline (their seeds are "
         "diagnosis.baseline_seeds when given, else 0 … members − 1). Default 6: with 2 "
         "measurements each and the default 2 blocks of the seed 004 example, 24 pooled samples "
-        "per indicator, where the small-sample factor of the threshold rule is ≈ 1.15 (1.34 at "
+        "per indicator, where the small-sample factor of the threshold rule is ≈ 1.14 (1.34 at "
         "12); chosen so that `geardyn diagnose` of the seed 004 example stays under 60 s on one "
         "core (a judgement of cost against spread)")
     measurements_per_run: int = Field(
