@@ -9,7 +9,7 @@ orders (events per revolution) as documented per function.
 
 from geardyn.signal.annotate import annotate_axes, spectral_markers
 from geardyn.signal.cepstrum import power_cepstrum, real_cepstrum
-from geardyn.signal.envelope import envelope, envelope_spectrum
+from geardyn.signal.envelope import envelope, envelope_spectrum, squared_envelope_spectrum
 from geardyn.signal.indicators import (
     crest_factor,
     energy_ratio,
@@ -31,7 +31,7 @@ from geardyn.signal.indicators import (
     wheel_indicators,
     wheel_sideband_orders,
 )
-from geardyn.signal.kurtogram import best_band, kurtogram, spectral_kurtosis
+from geardyn.signal.kurtogram import best_band, fast_kurtogram, kurtogram, spectral_kurtosis
 from geardyn.signal.order_track import (
     SpeedEstimate,
     order_amplitudes,
@@ -82,6 +82,7 @@ __all__ = [
     "AngleSignal",
     "SpeedEstimate",
     "best_band",
+    "fast_kurtogram",
     "kurtogram",
     "order_amplitudes",
     "order_track",
@@ -135,6 +136,7 @@ __all__ = [
     "signal_indicators",
     "skewness",
     "spectral_markers",
+    "squared_envelope_spectrum",
     "speed_from_angle",
     "speed_from_pulses",
     "stft",

@@ -48,3 +48,19 @@ def envelope_spectrum(
     out = amplitude_spectrum(e - e.mean(), fs, window)
     out.name = "squared_envelope_spectrum" if squared else "envelope_spectrum"
     return out
+
+
+def squared_envelope_spectrum(
+    x: np.ndarray, fs: float, band: tuple[float, float] | None = None, unit: str = "Hz"
+) -> xr.DataArray:
+    """Squared-envelope spectrum (SES) of the band ``band = (lo, hi)``: amplitude spectrum
+    (Hann, mean removed) of ``|x_b + j H{x_b}|²``, ``x_b`` = ``x`` band-passed to ``band``
+    (Antoni 2007: the band of the fast kurtogram, ``fast_kurtogram(...).attrs["band"]``;
+    Randall & Antoni 2011, "Rolling element bearing diagnostics — a tutorial", MSSP 25).
+    Repetitive impulses at rate ``1/T`` give lines at ``k/T``. This is
+    :func:`envelope_spectrum` with ``squared=True``; ``unit``: frequency unit of ``fs`` and
+    ``band`` (``"events/rev"`` for an angle-domain signal, ``fs`` then in samples per
+    revolution). Coordinate ``frequency`` [``unit``]."""
+    out = envelope_spectrum(x, fs, band, squared=True)
+    out["frequency"].attrs["units"] = unit
+    return out
