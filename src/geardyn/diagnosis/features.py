@@ -76,7 +76,7 @@ from geardyn.signal.indicators import (
     synchronous_power,
     wheel_indicators,
 )
-from geardyn.signal.kurtogram import kurtogram as stft_kurtogram
+from geardyn.signal.kurtogram import fast_kurtogram
 from geardyn.signal.resample import AngleSignal, resample_to_angle
 from geardyn.signal.spectra import order_spectrum
 from geardyn.signal.tsa import difference_signal, keep_orders, planetary_tsa, residual_signal, tsa
@@ -650,7 +650,7 @@ def _spectrum_and_band(
         return spec, None, (lo, hi)
     try:
         top = min(float(ref.max_valid_order), 0.5 * spr)
-        kg = stft_kurtogram(whole, float(spr), unit="events/rev", fmax=top)
+        kg = fast_kurtogram(whole, float(spr), unit="events/rev", fmax=top)
     except InputError as exc:
         notes.append(f"kurtogram: {exc}; envelope of the full band")
         return spec, None, None
