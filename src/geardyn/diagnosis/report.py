@@ -1,12 +1,19 @@
 """The diagnosis report: one self-contained HTML page (``report.html``).
 
-Sections: verdict (table, margin chart, notes); machine, record, baseline and configured
-faults; kinematic tables (shaft speeds, meshes, wheel fault orders, bearing orders, planet
-pass); annotated order spectrum (healthy baseline against the record); envelope spectrum with
-the bearing and fault lines (and the kurtogram of the band choice); TSA per component;
-spectrogram of the channel and CWT of the TSA of the worst component; indicator table with
-thresholds (alarm cells highlighted). Figures are embedded as PNG data URIs; the page
+Sections: detection and localisation (when the verdict carries them); verdict (table, margin
+chart, notes); machine, record, baseline and configured faults; kinematic tables (shaft
+speeds, meshes, wheel fault orders, bearing orders, planet pass); order spectrum over the
+sensor's whole band (up to the channel's Nyquist frequency in orders of the reference at the
+record's mean speed, log-log, transfer-path modes marked) and annotated around the meshes
+(healthy baseline against the record); envelope spectrum with the bearing and fault lines (and
+the kurtogram of the band choice); TSA per component; spectrogram of the channel up to its
+Nyquist frequency (log frequency axis, modes marked) and CWT of the TSA of the worst
+component; indicator table with thresholds (alarm cells highlighted); what each indicator
+shown means (:mod:`geardyn.diagnosis.explain`). Figures are embedded as PNG data URIs; the page
 has no external file, stylesheet or script.
+
+The worst indicator of a component is :attr:`ComponentVerdict.worst
+<geardyn.diagnosis.verdict.ComponentVerdict.worst>` in the table and in the margin chart alike.
 
 The features objects are those of :func:`geardyn.diagnosis.features.features_from_result`
 (``table``, ``tsa``, ``order_spectrum``, ``envelope_spectrum``, ``band``, ``kurtogram``,
@@ -20,6 +27,7 @@ import html
 import io
 import math
 from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -28,7 +36,9 @@ import pandas as pd
 import xarray as xr
 
 from geardyn.checkpoint import write_text
-from geardyn.diagnosis.verdict import Verdict
+from geardyn.diagnosis.explain import explain
+from geardyn.diagnosis.verdict import Verdict, is_isolation_measure
+from geardyn.errors import InputError
 
 if TYPE_CHECKING:
     from geardyn.diagnosis.features import Features
@@ -41,7 +51,9 @@ table{border-collapse:collapse;margin:.5em 0 1em;font-size:.85em}
 th,td{border:1px solid #ccc;padding:2px 6px;text-align:right}
 th{background:#f0f0f0}td.txt,th.txt{text-align:left}
 td.alarm{background:#f8c4c4;font-weight:bold}td.healthy{background:#d4f0d4}
-td.unknown{background:#eee;color:#666}
+td.unknown{background:#eee;color:#666}td.uncertain{background:#fde2a6;font-weight:bold}
+p.detected{background:#f8c4c4;padding:4px 8px}p.clear{background:#d4f0d4;padding:4px 8px}
+p.uncertain{background:#fde2a6;padding:4px 8px}td.def{text-align:left;max-width:40em}
 img{max-width:100%;display:block;margin:.3em 0 1em}
 p.note{color:#666;font-size:.9em}
 """
@@ -66,12 +78,19 @@ KINEMATIC_TABLES: tuple[tuple[str, str, dict[str, str]], ...] = (
                                     "planet_pass_order": "planet pass order [events/rev]"}),
 )
 
-#: Indicator table columns: (verdict.indicator_table column, header with unit).
+#: Indicator table columns: (verdict.indicator_table column, header with unit); ``unit`` is the
+#: indicator's unit (:func:`geardyn.diagnosis.explain.explain`), that of value, mean, std and
+#: threshold.
 INDICATOR_COLUMNS = (
     ("component", "component"), ("kind", "kind"), ("indicator", "indicator"),
-    ("value", "record value [-]"), ("mean", "baseline mean [-]"), ("std", "baseline std [-]"),
-    ("threshold", "threshold [-]"), ("margin", "margin value/threshold [-]"),
+    ("unit", "unit"), ("value", "record value [unit]"), ("mean", "baseline mean [unit]"),
+    ("std", "baseline std [unit]"), ("threshold", "threshold [unit]"),
+    ("margin", "margin value/threshold [-]"),
 )
+
+#: Fill colour of a component state in the margin chart (CSS classes of the same names).
+STATE_COLOURS = {"alarm": "tab:red", "uncertain": "tab:orange", "healthy": "tab:green",
+                 "unknown": "0.7"}
 
 
 # ---------------------------------------------------------------- HTML building blocks
@@ -141,11 +160,153 @@ def _axes(figsize: tuple[float, float]) -> tuple[Any, Any]:
     return fig, fig.add_subplot()
 
 
-def _order_xmax(freqs: CharacteristicFrequencies | None, spec: xr.DataArray) -> float:
+def _mesh_xmax(freqs: CharacteristicFrequencies | None, spec: xr.DataArray) -> float:
+    """Upper order of the zoom on the meshes: 3.3 × the highest mesh order (three harmonics
+    and their sidebands), at most the spectrum's top."""
     top = float(spec[spec.dims[0]].values[-1])
     if freqs is None or freqs.meshes.empty:
         return top
     return min(top, 3.3 * float(freqs.meshes["mesh_order"].max()))
+
+
+@dataclass(frozen=True)
+class SensorBand:
+    """Order range where a channel's content is: ``order_max`` (drawn up to), the channel's
+    Nyquist order ``nyquist_order`` = (f_s/2)/f_ref (NaN if the channel is not sampled in time),
+    the top of the analysed spectrum ``analysed_order``, the reference rotation frequency
+    ``reference_hz`` [Hz] and the transfer-path mode frequencies ``modes_hz`` [Hz]."""
+
+    order_max: float
+    nyquist_order: float
+    analysed_order: float
+    reference_hz: float
+    modes_hz: tuple[float, ...] = ()
+
+    @property
+    def modes_order(self) -> tuple[float, ...]:
+        """Mode frequencies in orders of the reference (f_mode / f_ref)."""
+        return tuple(f / self.reference_hz for f in self.modes_hz)
+
+    @property
+    def truncated(self) -> bool:
+        """True when the analysed spectrum stops below the channel's Nyquist order."""
+        return math.isfinite(self.nyquist_order) and self.analysed_order < self.nyquist_order
+
+
+def sensor_band(analysed_order: float, reference_hz: float, sample_rate_hz: float | None = None,
+                modes_hz: Iterable[float] = ()) -> SensorBand:
+    """The order range to draw a channel's spectra over: up to its Nyquist frequency
+    ``sample_rate_hz``/2 expressed in orders of the reference turning at ``reference_hz``
+    (order = f / f_ref), at most ``analysed_order`` (the top of the computed spectrum); the
+    whole analysed range when the sample rate is not known. ``modes_hz``: transfer-path mode
+    frequencies (non-positive entries, the "no path" placeholder, are dropped).
+
+    Example: seed 004 ring accelerometer, 5 kHz sampling, sun reference at 32.43 rpm
+    (0.5404 Hz): Nyquist order 2500/0.5404 = 4626; its 1.2 kHz housing mode at order 2221."""
+    f_ref = float(reference_hz)
+    if not math.isfinite(f_ref) or f_ref <= 0:
+        raise InputError(f"reference_hz: the reference rotation frequency must be a finite "
+                         f"number > 0 [Hz], got {reference_hz!r}")
+    top = float(analysed_order)
+    if not math.isfinite(top) or top <= 0:
+        raise InputError(f"analysed_order: the top of the spectrum must be a finite number > 0 "
+                         f"[orders], got {analysed_order!r}")
+    nyq = math.nan
+    if sample_rate_hz is not None:
+        fs = float(sample_rate_hz)
+        if not math.isfinite(fs) or fs <= 0:
+            raise InputError(f"sample_rate_hz: must be a finite number > 0 [Hz], got "
+                             f"{sample_rate_hz!r}")
+        nyq = 0.5 * fs / f_ref
+    modes = []
+    for f in modes_hz:
+        f = float(f)
+        if not math.isfinite(f):
+            raise InputError(f"modes_hz: mode frequencies must be finite [Hz], got {f!r}")
+        if f > 0:
+            modes.append(f)
+    return SensorBand(order_max=min(top, nyq) if math.isfinite(nyq) else top,
+                      nyquist_order=nyq, analysed_order=top, reference_hz=f_ref,
+                      modes_hz=tuple(modes))
+
+
+def channel_sampling(ds: xr.Dataset | None, channel: str | None
+                     ) -> tuple[float | None, tuple[float, ...]]:
+    """``(sample rate [Hz] or None, transfer-path mode frequencies [Hz])`` of a result's
+    channel: the rate of a time-sampled channel (``sample_rate_hz`` attribute, else from its
+    sample times), None for an angle- or event-sampled one or when there is no channel; the
+    modes from the ``transfer_modes_hz`` attribute (docs/results.md)."""
+    if ds is None or not channel:
+        return None, ()
+    from geardyn.results import channel as get_channel
+
+    ch = get_channel(ds, channel)
+    raw = ch.attrs.get("transfer_modes_hz", ())
+    modes = tuple(float(f) for f in np.atleast_1d(np.asarray(raw, float)) if f > 0)
+    if ch.sampling != "time":
+        return None, modes
+    fs = ch.sample_rate_hz
+    if not fs and ch.time.size >= 2:
+        fs = 1.0 / float(np.median(np.diff(ch.time)))
+    return (float(fs) if fs else None), modes
+
+
+def _reference_hz(record: Features, freqs: CharacteristicFrequencies | None) -> float | None:
+    """Reference rotation frequency [Hz] at the record's mean speed (else the kinematics')."""
+    rpm = abs(float(getattr(record, "mean_rpm", math.nan)))
+    if math.isfinite(rpm) and rpm > 0:
+        return rpm / 60.0
+    if freqs is not None and math.isfinite(freqs.reference_hz) and freqs.reference_hz > 0:
+        return float(freqs.reference_hz)
+    return None
+
+
+def sensor_band_figure(record: xr.DataArray, healthy: xr.DataArray | None,
+                       band: SensorBand, markers: pd.DataFrame | None, reference: str) -> Any:
+    """Order spectrum over the sensor's band, log-log: record and healthy baseline, the mesh
+    harmonics (dashed) and the transfer-path modes (dotted, labelled), a frequency axis [Hz]
+    on top (f = order × f_ref)."""
+    dim = record.dims[0]
+    o = np.asarray(record[dim].values, float)
+    y = np.asarray(record.values, float)
+    keep = (o > 0) & (o <= band.order_max)
+    fig, ax = _axes((10, 4))
+    ax.plot(o[keep], y[keep], lw=0.5, color="0.2", label="record")
+    if healthy is not None:
+        ho = np.asarray(healthy[healthy.dims[0]].values, float)
+        hk = (ho > 0) & (ho <= band.order_max)
+        ax.plot(ho[hk], np.asarray(healthy.values, float)[hk], lw=0.5, color="tab:cyan",
+                alpha=0.8, label="healthy baseline", zorder=1)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    lo = float(o[keep][0]) if keep.any() else 1.0
+    ax.set_xlim(lo, band.order_max)
+    pos = y[keep][y[keep] > 0]
+    if pos.size:
+        ax.set_ylim(max(pos.min(), pos.max() * 1e-7), pos.max() * 3)
+    if markers is not None and len(markers):
+        mesh = markers[(markers["kind"] == "mesh") & markers["order"].between(lo, band.order_max)]
+        for i, r in enumerate(mesh.itertuples()):
+            ax.axvline(r.order, color="tab:blue", lw=0.6, ls="--", alpha=0.6,
+                       label="mesh harmonics" if i == 0 else None)
+    for i, (f, om) in enumerate(zip(band.modes_hz, band.modes_order, strict=True)):
+        if om <= band.order_max:
+            ax.axvline(om, color="tab:red", lw=1.0, ls=":",
+                       label="transfer-path mode" if i == 0 else None)
+            ax.annotate(f"mode {f:.4g} Hz", (om, 0.97), xycoords=("data", "axes fraction"),
+                        va="top", ha="right", fontsize=7, color="tab:red",
+                        bbox={"fc": "w", "ec": "none", "alpha": 0.8, "pad": 1})
+    ref = reference or "reference"
+    ax.set_xlabel(f"order of {ref} [events/rev]")
+    ax.set_ylabel(f"amplitude [{_units(record, 'channel units')}]")
+    f_ref = band.reference_hz
+    top = ax.secondary_xaxis("top", functions=(lambda x: x * f_ref, lambda f: f / f_ref))
+    top.set_xlabel(f"frequency at the mean speed ({f_ref:.4g} Hz of {ref}) [Hz]")
+    nyq = ("" if not math.isfinite(band.nyquist_order)
+           else f"; channel Nyquist at order {band.nyquist_order:.4g}")
+    ax.set_title(f"Order spectrum over the sensor band (record){nyq}", fontsize=9)
+    ax.legend(loc="lower left", fontsize=7)
+    return fig
 
 
 def order_spectrum_figure(
@@ -231,9 +392,24 @@ def cwt_figure(component: str, tsa_da: xr.DataArray, max_order: float) -> Any:
     return fig
 
 
-def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None) -> Any | None:
-    """STFT (time-sampled channel) or angular spectrogram (angle-sampled channel) in dB, up to
-    ``fmax`` [Hz] (segments resolve fmax/30, at least 4 segments in the record)."""
+def spectrogram_segment(sample_rate_hz: float, n_samples: int, resolve_hz: float | None) -> int:
+    """STFT segment length: the power of two whose bin width f_s/n is at most ``resolve_hz``
+    (None: f_s/64), with at least 4 segments in the record and at least 16 samples."""
+    fs = float(sample_rate_hz)
+    want = fs / resolve_hz if resolve_hz and resolve_hz > 0 else 64.0
+    nper = int(2 ** math.ceil(math.log2(max(16.0, want))))
+    return max(16, min(nper, int(2 ** math.floor(math.log2(max(16, n_samples // 4))))))
+
+
+def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None = None,
+                       resolve_hz: float | None = None, modes_hz: Sequence[float] = ()
+                       ) -> Any | None:
+    """STFT (time-sampled channel) or angular spectrogram (angle-sampled channel) in dB.
+
+    Time-sampled: up to ``fmax`` [Hz] (default the channel's Nyquist frequency f_s/2) on a log
+    frequency axis, so that the mesh lines and the structural resonances both show; segments
+    resolve ``resolve_hz`` (:func:`spectrogram_segment`; the report passes half the lowest
+    mesh frequency); the transfer-path modes ``modes_hz`` dotted."""
     from geardyn.results import channel as get_channel
     from geardyn.signal import angular_spectrogram, stft
     from geardyn.signal.plots import plot_map
@@ -241,14 +417,22 @@ def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None) -> Any 
     ch = get_channel(ds, channel)
     if ch.sampling == "time" and ch.values.size >= 64:
         fs = ch.sample_rate_hz or 1.0 / float(np.median(np.diff(ch.time)))
-        want = fs / (fmax / 30.0) if fmax else fs
-        nper = int(2 ** math.ceil(math.log2(max(16.0, want))))
-        nper = min(nper, int(2 ** math.floor(math.log2(max(16, ch.values.size // 4)))))
+        nper = spectrogram_segment(fs, ch.values.size, resolve_hz)
         m = stft(ch.values - ch.values.mean(), fs, nperseg=nper)
         m.attrs["units"] = ch.units
-        ymax = min(fs / 2, fmax) if fmax else None
-        fig = plot_map(m, ymax=ymax, title=f"Spectrogram of {channel}")
-        fig.axes[0].set_ylabel("frequency [Hz]")
+        top = min(fs / 2, fmax) if fmax else fs / 2
+        fig = plot_map(m, ymax=top, title=f"Spectrogram of {channel} (segments of {nper} "
+                       f"samples, {fs / nper:.3g} Hz bins)")
+        ax = fig.axes[0]
+        ax.set_yscale("log")
+        ax.set_ylim(fs / nper, top)
+        ax.set_ylabel("frequency [Hz]")
+        ax.set_xlabel("time [s]")
+        for i, f in enumerate(f for f in modes_hz if 0 < f <= top):
+            ax.axhline(f, color="w", lw=1.0, ls=":",
+                       label="transfer-path mode" if i == 0 else None)
+            ax.annotate(f"mode {f:.4g} Hz", (0.01, f), xycoords=("axes fraction", "data"),
+                        va="bottom", fontsize=7, color="w")
     elif ch.sampling == "angle" and ch.pulses_per_rev and ch.values.size >= 4 * ch.pulses_per_rev:
         revs = ch.values.size / ch.pulses_per_rev
         m = angular_spectrogram(ch.values - ch.values.mean(), ch.pulses_per_rev,
@@ -265,29 +449,63 @@ def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None) -> Any 
     return fig
 
 
-_STATE_COLOURS = {"alarm": "tab:red", "healthy": "tab:green", "unknown": "0.7"}
+@dataclass(frozen=True)
+class MarginRow:
+    """One component of the margin chart: its state, its worst detection indicator and margin
+    (:attr:`ComponentVerdict.worst <geardyn.diagnosis.verdict.ComponentVerdict.worst>`, the
+    one the verdict table shows), every detection margin and every isolation-evidence
+    margin."""
+
+    component: str
+    state: str
+    worst: str
+    worst_margin: float
+    detection: tuple[float, ...]
+    evidence: tuple[float, ...]
+
+
+def margin_rows(verdict: Verdict) -> list[MarginRow]:
+    """Rows of :func:`margin_figure`, one per component in verdict order (finite margins
+    > 0 only: the chart is logarithmic)."""
+    rows = []
+    for name, c in verdict.components.items():
+        w = c.worst
+        det = tuple(float(v.margin) for k, v in c.indicators.items()
+                    if not is_isolation_measure(k) and math.isfinite(v.margin) and v.margin > 0)
+        ev = tuple(float(v.margin) for k, v in c.indicators.items()
+                   if is_isolation_measure(k) and math.isfinite(v.margin) and v.margin > 0)
+        rows.append(MarginRow(name, c.state, w[0] if w else "", float(w[1]) if w else math.nan,
+                              det, ev))
+    return rows
 
 
 def margin_figure(verdict: Verdict) -> Any | None:
-    """Horizontal bars: every indicator margin of each component (dots) and its worst one
-    (bar, coloured by the component's state), log scale, alarm line at margin 1."""
-    rows = [(name, c) for name, c in verdict.components.items()]
-    if not any(c.indicators for _, c in rows):
+    """Horizontal bars: the worst detection indicator of each component (bar, coloured by the
+    component's state, labelled with the indicator's name; the same indicator as the verdict
+    table), every detection margin (black dots) and every isolation-evidence margin (open
+    diamonds); log scale, alarm line at margin 1."""
+    rows = margin_rows(verdict)
+    if not any(r.detection or r.evidence for r in rows):
         return None
     fig, ax = _axes((10, 0.35 * len(rows) + 1.2))
-    for i, (_, c) in enumerate(rows):
-        m = np.array([v.margin for v in c.indicators.values()], float)
-        m = m[np.isfinite(m) & (m > 0)]
-        if m.size:
-            ax.barh(i, m.max(), color=_STATE_COLOURS[c.state], alpha=0.6)
-            ax.plot(m, np.full(m.size, i), "k.", ms=3)
+    for i, r in enumerate(rows):
+        if math.isfinite(r.worst_margin) and r.worst_margin > 0:
+            ax.barh(i, r.worst_margin, color=STATE_COLOURS.get(r.state, "0.7"), alpha=0.6)
+            ax.annotate(f" {r.worst}", (r.worst_margin, i), va="center", fontsize=6)
+        if r.detection:
+            ax.plot(r.detection, np.full(len(r.detection), i), "k.", ms=3)
+        if r.evidence:
+            ax.plot(r.evidence, np.full(len(r.evidence), i), "D", ms=4, mfc="none",
+                    mec="tab:purple")
     ax.axvline(1.0, color="k", lw=0.8, ls="--", label="threshold (margin 1)")
+    ax.plot([], [], "k.", ms=3, label="detection indicator")
+    ax.plot([], [], "D", ms=4, mfc="none", mec="tab:purple", label="isolation evidence")
     ax.set_xscale("log")
-    ax.set_yticks(range(len(rows)), [f"{n} ({c.state})" for n, c in rows], fontsize=7)
+    ax.set_yticks(range(len(rows)), [f"{r.component} ({r.state})" for r in rows], fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("margin value/threshold [-]")
-    ax.set_title("Indicator margins per component (bar: worst; dots: every indicator)")
-    ax.legend(loc="lower right", fontsize=7)
+    ax.set_title("Indicator margins per component (bar: worst detection indicator, named)")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7)
     return fig
 
 
@@ -311,8 +529,64 @@ def _section(title: str, *parts: str) -> str:
     return f"<section><h2>{html.escape(title)}</h2>{''.join(parts)}</section>"
 
 
+def _probability(p: Any) -> str:
+    try:
+        v = float(p)
+    except (TypeError, ValueError):
+        return "–"
+    return f"{v:.3g}" if math.isfinite(v) else "–"
+
+
+def detection_section(verdict: Verdict) -> str:
+    """The machine-level answers of a verdict that carries them: ``detection`` (fault detected
+    or not, false-alarm probability over its tests, alarms) and ``localisation`` (state
+    localised / uncertain / none, components, confidence, ranked candidates with their
+    evidence and the score's meaning). Empty when the verdict has neither (dicts only)."""
+    det = getattr(verdict, "detection", None)
+    loc = getattr(verdict, "localisation", None)
+    parts: list[str] = []
+    if isinstance(det, dict):
+        detected = bool(det.get("detected", False))
+        head = ("Fault detected." if detected else "No fault detected.")
+        parts.append(f'<p class="{"detected" if detected else "clear"}"><b>Detection: '
+                     f"{html.escape(head)}</b></p>")
+        parts.append(_note(
+            f"Machine false-alarm probability {_probability(det.get('false_alarm_probability'))}"
+            f" over {_fmt(det.get('tests', '–'))} tests (per test α = "
+            f"{_probability(det.get('alpha_per_test'))})."))
+        alarms = pd.DataFrame(list(det.get("alarms") or []),
+                              columns=["component", "indicator", "margin"])
+        if len(alarms):
+            parts.append(html_table(alarms, {"component": "component", "indicator": "indicator",
+                                             "margin": "margin value/threshold [-]"}))
+    if isinstance(loc, dict):
+        state = str(loc.get("state", "none"))
+        names = [str(c) for c in loc.get("components") or []]
+        if not names and state == "uncertain":
+            names = [str(c.get("component", "")) for c in loc.get("candidates") or []
+                     if isinstance(c, dict)]
+        comps = ", ".join(n for n in names if n) or "none"
+        text = {"localised": f"Localised to {comps}",
+                "uncertain": f"Location uncertain; candidates {comps}",
+                "none": "Not localised"}.get(state, f"{state}: {comps}")
+        cls = {"localised": "detected", "uncertain": "uncertain"}.get(state, "clear")
+        parts.append(f'<p class="{cls}"><b>Localisation: {html.escape(text)} (confidence '
+                     f"{html.escape(_probability(loc.get('confidence')))}).</b></p>")
+        cands = pd.DataFrame(list(loc.get("candidates") or []),
+                             columns=["component", "posterior", "evidence", "value",
+                                      "threshold"])
+        if len(cands):
+            parts.append(html_table(cands, {"component": "component", "posterior": "posterior",
+                                            "evidence": "evidence", "value": "value",
+                                            "threshold": "threshold"}))
+        if loc.get("score"):
+            parts.append(_note(f"Score: {loc['score']}"))
+    return _section("Detection and localisation", *parts) if parts else ""
+
+
 def verdict_section(verdict: Verdict) -> str:
-    """Per-component verdict table (state cells coloured) and the summary line."""
+    """Per-component verdict table (state cells coloured: alarm, uncertain, healthy,
+    unknown) and the summary line."""
     df = verdict.table()
     states = list(df["state"])
     headers = {"component": "component", "kind": "kind", "state": "state",
@@ -320,14 +594,17 @@ def verdict_section(verdict: Verdict) -> str:
                "isolation": "isolation evidence", "isolation_margin": "evidence margin [-]"}
     table = html_table(df, headers, lambda i, c: states[i] if c == "state" else "")
     s = verdict.summary()
-    line = (f"Alarm on: {', '.join(s['alarms'])}." if s["alarms"]
-            else "No component in alarm.")
+    alarms = list(s.get("alarms") or [])
+    uncertain = [n for n, c in verdict.components.items() if c.state == "uncertain"]
+    line = (f"Alarm on: {', '.join(alarms)}." if alarms else "No component in alarm.")
+    if uncertain:
+        line += f" Uncertain (detected, not localised): {', '.join(uncertain)}."
     if "localised" in s:
-        exp = ", ".join(s["expected"]) or "none (healthy machine)"
+        exp = ", ".join(s.get("expected") or []) or "none (healthy machine)"
         line += f" Configured fault(s) on: {exp}; "
         line += "alarms match the configured faults." if s["localised"] else (
-            f"missed: {', '.join(s['missed']) or 'none'}, "
-            f"unexpected: {', '.join(s['unexpected']) or 'none'}.")
+            f"missed: {', '.join(s.get('missed') or []) or 'none'}, "
+            f"unexpected: {', '.join(s.get('unexpected') or []) or 'none'}.")
     notes = "".join(f"<li>{html.escape(n)}</li>" for n in verdict.notes)
     chart = margin_figure(verdict)
     return _section("Verdict", f"<p><b>{html.escape(line)}</b></p>", table,
@@ -372,10 +649,12 @@ def kinematics_section(freqs: CharacteristicFrequencies | None) -> str:
 
 
 def indicator_section(verdict: Verdict) -> str:
-    """All judged indicators with baseline statistics and thresholds; alarms highlighted."""
+    """All judged indicators with their unit, baseline statistics and thresholds; alarms
+    highlighted."""
     df = verdict.indicator_table()
     if df.empty:
         return _section("Indicators and thresholds", _note("No indicator could be judged."))
+    df = df.assign(unit=[_unit_of(k) for k in df["indicator"]])
     alarms = list(df["alarm"])
     headers = dict(INDICATOR_COLUMNS)
     table = html_table(df, headers,
@@ -386,21 +665,98 @@ def indicator_section(verdict: Verdict) -> str:
         " indicators: |value − mean| > k·σ, margin = |value − mean|/(k·σ))."))
 
 
+def _unit_of(name: str) -> str:
+    ind = explain(name)
+    return ind.unit if ind is not None else "?"
+
+
+def shown_indicators(verdict: Verdict) -> list[str]:
+    """Indicator names (``channel:`` prefix dropped) shown in the verdict and indicator
+    tables, first-seen order."""
+    names: list[str] = []
+    for c in verdict.components.values():
+        for k in c.indicators:
+            key = str(k).rpartition(":")[2]
+            if key not in names:
+                names.append(key)
+    for key in list(verdict.table()["worst_indicator"]) + list(verdict.table()["isolation"]):
+        key = str(key).rpartition(":")[2]
+        if key and key not in names:
+            names.append(key)
+    return names
+
+
+def explanations_section(verdict: Verdict) -> str:
+    """What every indicator shown in the tables means: definition, unit, direction and
+    reference (:mod:`geardyn.diagnosis.explain`; also docs/indicators.md)."""
+    names = shown_indicators(verdict)
+    if not names:
+        return ""
+    rows = []
+    for n in names:
+        ind = explain(n)
+        if ind is None:
+            rows.append({"name": n, "definition": "no explanation registered", "unit": "?",
+                         "direction": "", "reference": ""})
+        else:
+            rows.append({"name": n, "definition": ind.definition, "unit": ind.unit,
+                         "direction": "upper" if ind.higher_is_worse else "two-sided",
+                         "reference": ind.reference})
+    df = pd.DataFrame(rows, columns=["name", "definition", "unit", "direction", "reference"])
+    table = html_table(df, {"name": "indicator", "definition": "definition", "unit": "unit",
+                            "direction": "alarm direction", "reference": "reference"},
+                       lambda i, c: "def" if c in ("definition", "reference") else "")
+    return _section("Indicators", table, _note(
+        "Unit 1: dimensionless; channel units: the unit of the analysed channel. Direction "
+        "upper: alarm above the threshold; two-sided: alarm outside the baseline band. The "
+        "full list is in docs/indicators.md."))
+
+
 def _figures(items: Iterable[tuple[str, Any]]) -> list[str]:
     return [_img(fig, alt) if fig is not None else _note(f"{alt}: not available")
             for alt, fig in items]
 
 
+def _band_note(band: SensorBand, reference: str) -> str:
+    ref = reference or "the reference"
+    text = (f"Orders of {ref} at the record's mean speed ({band.reference_hz:.4g} Hz); drawn up "
+            f"to order {band.order_max:.4g} ({band.order_max * band.reference_hz:.4g} Hz)")
+    if math.isfinite(band.nyquist_order):
+        text += f", the channel's Nyquist order being {band.nyquist_order:.4g}"
+    if band.modes_hz:
+        text += "; transfer-path mode(s) at " + ", ".join(
+            f"{f:.4g} Hz (order {o:.4g})" for f, o in zip(band.modes_hz, band.modes_order,
+                                                         strict=True))
+    text += "."
+    if band.truncated:
+        text += (f" The analysed spectrum stops at order {band.analysed_order:.4g}, below the "
+                 "channel's Nyquist order (angular resampling limit): content above it is not "
+                 "shown.")
+    return _note(text)
+
+
 def spectra_section(record: Features, healthy: Features | None,
-                    freqs: CharacteristicFrequencies | None) -> str:
-    """Annotated order spectrum and envelope spectrum (record against healthy)."""
+                    freqs: CharacteristicFrequencies | None,
+                    sampling: tuple[float | None, tuple[float, ...]] = (None, ())) -> str:
+    """Order spectrum over the sensor's band (:func:`sensor_band`, ``sampling`` = sample rate
+    [Hz] and transfer-path modes [Hz] of the channel) and zoomed on the meshes (annotated),
+    envelope spectrum (record against healthy)."""
     parts: list[str] = []
     markers = getattr(record, "markers", None)
     spec = getattr(record, "order_spectrum", None)
+    f_ref = _reference_hz(record, freqs)
     if spec is not None:
-        fig = order_spectrum_figure(spec, getattr(healthy, "order_spectrum", None), markers,
-                                    _order_xmax(freqs, spec), "Order spectrum (record)")
-        parts += _figures([("order spectrum", fig)])
+        hspec = getattr(healthy, "order_spectrum", None)
+        reference = str(getattr(record, "reference", "") or
+                        (freqs.order_reference if freqs is not None else ""))
+        if f_ref is not None:
+            band = sensor_band(float(spec[spec.dims[0]].values[-1]), f_ref, *sampling)
+            parts += _figures([("order spectrum over the sensor band",
+                                sensor_band_figure(spec, hspec, band, markers, reference))])
+            parts.append(_band_note(band, reference))
+        fig = order_spectrum_figure(spec, hspec, markers, _mesh_xmax(freqs, spec),
+                                    "Order spectrum around the meshes (record)")
+        parts += _figures([("order spectrum around the meshes", fig)])
     env = getattr(record, "envelope_spectrum", None)
     if env is not None:
         lines = None
@@ -434,11 +790,14 @@ def tsa_section(record: Features, healthy: Features | None, verdict: Verdict) ->
 
 
 def time_frequency_section(ds: xr.Dataset | None, channel: str | None, record: Features,
-                           verdict: Verdict, fmax: float | None, teeth: dict[str, int]) -> str:
-    """Spectrogram of the record channel and CWT of the TSA of the worst component."""
+                           verdict: Verdict, resolve_hz: float | None, teeth: dict[str, int],
+                           modes_hz: Sequence[float] = ()) -> str:
+    """Spectrogram of the record channel up to its Nyquist frequency (bins of at most
+    ``resolve_hz``, modes marked) and CWT of the TSA of the worst component."""
     parts = []
     if ds is not None and channel:
-        parts += _figures([(f"spectrogram of {channel}", spectrogram_figure(ds, channel, fmax))])
+        fig = spectrogram_figure(ds, channel, None, resolve_hz, modes_hz)
+        parts += _figures([(f"spectrogram of {channel}", fig)])
     tsas: dict[str, xr.DataArray] = getattr(record, "tsa", None) or {}
     worst = _worst_component(verdict, tsas)
     if worst is not None:
@@ -470,32 +829,42 @@ def write_report(
     record_ds: xr.Dataset | None = None,
     channel: str | None = None,
     title: str | None = None,
+    modes_hz: Sequence[float] | None = None,
 ) -> Path:
     """Write ``out_dir/report.html`` and return its path.
 
     ``record`` / ``healthy``: features of the judged record and of one healthy baseline record
     (drawn behind the record); ``freqs``: kinematics at the record's operating point;
-    ``record_ds`` + ``channel``: the record result and its analysed channel (spectrogram).
+    ``record_ds`` + ``channel``: the record result and its analysed channel (spectrogram; its
+    sample rate bounds the drawn order range, its ``transfer_modes_hz`` are marked);
+    ``modes_hz``: transfer-path mode frequencies [Hz] to mark instead (e.g. from a config).
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     teeth: dict[str, int] = {}
-    fmax = None
+    resolve_hz = None
     if freqs is not None and not freqs.wheels.empty:
         teeth = {str(w): int(z) for w, z in zip(freqs.wheels["wheel"], freqs.wheels["teeth"],
                                                 strict=True)}
     if freqs is not None and not freqs.meshes.empty:
-        fmax = 3.3 * float(freqs.meshes["mesh_hz"].max())
+        mesh = np.abs(np.asarray(freqs.meshes["mesh_hz"], float))
+        mesh = mesh[np.isfinite(mesh) & (mesh > 0)]
+        resolve_hz = 0.5 * float(mesh.min()) if mesh.size else None
+    fs, modes = channel_sampling(record_ds, channel)
+    if modes_hz is not None:
+        modes = tuple(float(f) for f in modes_hz)
     title = title or f"geardyn diagnosis: {verdict.machine}"
     body = [
         f"<h1>{html.escape(title)}</h1>",
+        detection_section(verdict),
         verdict_section(verdict),
         machine_section(verdict),
         kinematics_section(freqs),
-        spectra_section(record, healthy, freqs),
+        spectra_section(record, healthy, freqs, (fs, modes)),
         tsa_section(record, healthy, verdict),
-        time_frequency_section(record_ds, channel, record, verdict, fmax, teeth),
+        time_frequency_section(record_ds, channel, record, verdict, resolve_hz, teeth, modes),
         indicator_section(verdict),
+        explanations_section(verdict),
     ]
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body>"
