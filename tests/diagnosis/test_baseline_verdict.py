@@ -120,7 +120,7 @@ def test_verdict_median_over_blocks_alarms_and_unknown() -> None:
     assert v.components["ring"].state == "unknown"
     assert v.alarms == ["sun"]
     s = v.summary()
-    assert s["counts"] == {"healthy": 1, "alarm": 1, "unknown": 2}
+    assert s["counts"] == {"healthy": 1, "alarm": 1, "uncertain": 0, "unknown": 2}
     assert s["unexpected"] == ["sun"] and not s["localised"]
 
 

@@ -88,7 +88,7 @@ def test_diagnose_short_run_end_to_end(tmp_path: Path) -> None:
     assert "planetary.sun" in d["components"]
     assert any(k.startswith("RR_") for c in d["components"].values() for k in c["indicators"])
     for c in d["components"].values():
-        assert c["state"] in ("healthy", "alarm", "unknown")
+        assert c["state"] in ("healthy", "alarm", "uncertain", "unknown")
         assert c["state"] != "healthy" or c["indicators"]
     assert sorted(p.name for p in out.iterdir()) == ["report.html", "verdict.json"]
     assert (out / "report.html").read_text().count("data:image/png;base64,") >= 4

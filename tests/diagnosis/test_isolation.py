@@ -8,19 +8,14 @@ to ≈ 1 + R·P/σ²; a pattern whose position drifts between revolutions does n
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 
 from geardyn.diagnosis.isolation import (
-    Evidence,
-    isolate,
     line_family_shares,
     revolution_blocks,
     synchronous_deviation_ratio,
 )
-from geardyn.diagnosis.verdict import ComponentVerdict, IndicatorVerdict, Verdict
 from geardyn.errors import InputError
 
 SPR, R = 256, 12
@@ -81,52 +76,16 @@ def test_line_family_concentration():
         assert s.concentration == pytest.approx(1.0, rel=0.05)
 
 
-def _iv(value, th=1.0):
-    return IndicatorVerdict(value=value, threshold=th, lower=None, mean=0.0, std=0.0,
-                            sigma=0.0, n=3, margin=value / th, alarm=value > th,
-                            direction="upper", channel="acc")
+def test_line_family_share_ignores_a_baseline_line_that_falls_elsewhere():
+    """Δ = max(0, record − baseline): a line of the baseline that falls in the record (order
+    7.0, not a BPFO harmonic) takes nothing from the BPFO comb's share of the increase."""
+    o = np.arange(0, 50, 0.05)
+    base = np.ones_like(o)
+    base[np.argmin(np.abs(o - 7.0))] += 8.0
+    rec = np.ones_like(o)
+    for k in range(1, 11):
+        rec[np.argmin(np.abs(o - 4.6 * k))] += 2.0
+    got = {s.line: s for s in line_family_shares(o, rec, [base, base],
+                                                 {("b", "BPFO"): 4.6})}
+    assert got["BPFO"].share == pytest.approx(1.0, abs=1e-12)
 
-
-def test_isolation_rules():
-    """1: SDR decides for rotating members; 2: wheels sharing an angle keep an alarm above half
-    the largest margin; 3: a shaft yields to a toothed member turning with it."""
-    comps = {
-        "mid": ComponentVerdict("mid", "shaft", "alarm", {"FM4": _iv(5.0)}),
-        "mid/z19": ComponentVerdict("mid/z19", "wheel", "alarm", {"SER": _iv(3.0)}),
-        "mid/z71": ComponentVerdict("mid/z71", "wheel", "alarm", {"SER": _iv(2.0)}),
-        "out": ComponentVerdict("out", "shaft", "alarm", {"FM4": _iv(4.0)}),
-    }
-    v = Verdict(machine="m", channels=["acc"], rule=None, components=comps)
-    ev = {"mid": Evidence("mid", "SDR", 50.0, 1.0, 0.01, 2.0),
-          "mid/z19": Evidence("mid/z19", "SDR_TE", 40.0, 1.0, 0.01, 2.0),
-          "mid/z71": Evidence("mid/z71", "SDR_TE", 12.0, 1.0, 0.01, 2.0),
-          "out": Evidence("out", "SDR", 1.1, 1.0, 0.01, 2.0)}
-    items = [SimpleNamespace(name="mid", abs_ratio=1.0), SimpleNamespace(name="mid/z19",
-             abs_ratio=1.0), SimpleNamespace(name="mid/z71", abs_ratio=1.0),
-             SimpleNamespace(name="out", abs_ratio=0.3)]
-    notes = isolate(v, ev, SimpleNamespace(items=items))
-    assert v.alarms == ["mid/z19"]
-    assert v.components["out"].state == "healthy"  # rose, but not synchronous (rule 1)
-    assert "SDR" in v.components["out"].indicators
-    assert any("mid/z71" in n for n in notes) and any("shaft alarm explained" in n for n in notes)
-
-
-def test_isolation_planetary_stage_and_unknown():
-    """Members of one planetary stage are seen through one sensor path: only those above half
-    the largest margin keep an alarm; a member in detection alarm without an SDR (too few own
-    revolutions) is unknown, not in alarm."""
-    comps = {
-        "st.sun": ComponentVerdict("st.sun", "sun", "alarm", {"FM4": _iv(3.0)}),
-        "st.ring": ComponentVerdict("st.ring", "ring", "alarm", {"FM4": _iv(2.0)}),
-        "st.planet1": ComponentVerdict("st.planet1", "planet", "alarm", {"FM4": _iv(2.0)}),
-    }
-    v = Verdict(machine="m", channels=["acc"], rule=None, components=comps)
-    ev = {"st.sun": Evidence("st.sun", "SDR", 9.5, 1.0, 0.01, 2.0),
-          "st.ring": Evidence("st.ring", "SDR", 2.4, 1.0, 0.01, 2.0)}
-    items = [SimpleNamespace(name="st.sun", abs_ratio=0.81, stage="st"),
-             SimpleNamespace(name="st.ring", abs_ratio=0.19, stage="st"),
-             SimpleNamespace(name="st.planet1", abs_ratio=0.48, stage="st")]
-    isolate(v, ev, SimpleNamespace(items=items))
-    assert v.alarms == ["st.sun"]
-    assert v.components["st.ring"].state == "healthy"
-    assert v.components["st.planet1"].state == "unknown"

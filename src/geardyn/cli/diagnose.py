@@ -23,7 +23,7 @@ from geardyn.errors import ConfigError, InputError
 #: Widest table printed (characters); wider verdict tables wrap their text columns.
 TABLE_WIDTH = 100
 
-_STYLE = {"alarm": "bold red", "healthy": "green", "unknown": "dim"}
+_STYLE = {"alarm": "bold red", "healthy": "green", "uncertain": "bold yellow", "unknown": "dim"}
 
 
 def parse_seeds(text: str | None) -> list[int] | None:
@@ -48,7 +48,7 @@ def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verd
     """Verdict table (component, kind, state, worst indicator and its margin, isolation evidence
     and its margin), the notes and where the files are."""
     t = Table(title=f"verdict: {verdict.machine} (channel {', '.join(verdict.channels)}, "
-              f"k = {verdict.rule.k:g})", title_justify="left")
+              f"k = {verdict.rule.k:.3g})", title_justify="left")
     for c in ("component", "kind", "state", "worst indicator", "margin [-]", "isolation",
               "margin [-] "):
         t.add_column(c, justify="right" if c.startswith("margin") else "left")
@@ -63,8 +63,21 @@ def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verd
     for note in verdict.notes:
         console.print(f"[dim]note: {escape(note)}[/]")
     s = verdict.summary()
-    console.print(f"alarm on: [bold red]{escape(', '.join(s['alarms']))}[/]" if s["alarms"]
-                  else "[green]no component in alarm[/]")
+    det = verdict.detection or {}
+    if det:
+        said = "[bold red]fault detected[/]" if det["detected"] else "[green]nothing detected[/]"
+        console.print(f"detection: {said} (false-alarm probability "
+                      f"{det['false_alarm_probability']:.3g} over {det['tests']} tests, "
+                      f"α = {det['alpha_per_test']:.2g} each)")
+    if s["verdict"] == "alarm":
+        conf = s.get("confidence")
+        console.print(f"location: [bold red]{escape(', '.join(s['location']))}[/]"
+                      + (f" (posterior {conf:.3f})" if conf is not None else ""))
+    elif s["verdict"] == "uncertain":
+        console.print("[bold yellow]detected, location uncertain[/]: candidates "
+                      f"{escape(', '.join(s['candidates']))}")
+    else:
+        console.print("[green]no component in alarm[/]")
     if "localised" in s:
         exp = ", ".join(s["expected"]) or "none (healthy machine)"
         ok = "[green]alarms match[/]" if s["localised"] else "[yellow]alarms do not match[/]"
@@ -110,7 +123,10 @@ def diagnose_cmd(
     channel: str | None = typer.Option(None, "--channel", help="sensor channel (default: "
                                        "\\[diagnosis].channel or the first)"),
     reference: str | None = typer.Option(None, "--reference", help="order reference link"),
-    k: float | None = typer.Option(None, "--k", help="threshold = mean + k·σ (default 3)"),
+    k: float | None = typer.Option(None, "--k", help="fixed threshold factor, mean + k·σ (default: "
+                                   "from the false-alarm probability)"),
+    p_fa: float | None = typer.Option(None, "--false-alarm-probability",
+                                      help="machine false-alarm probability (default 0.01)"),
     sigma_floor: float | None = typer.Option(None, "--sigma-floor",
                                              help="σ ≥ this fraction of |mean| (default 0.05)"),
     seeds: str | None = typer.Option(None, "--seeds", help="baseline seeds, e.g. 0,1,2"),
@@ -155,6 +171,7 @@ def diagnose_cmd(
             prog.update(task, description=message, completed=fraction)
 
         common = {"channel": channel, "reference": reference, "k": k,
+                  "false_alarm_probability": p_fa,
                   "sigma_floor": sigma_floor, "n_blocks": blocks, "skip_s": skip,
                   "reference_residuals": residuals, "progress": progress}
         if record is not None:

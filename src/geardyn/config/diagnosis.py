@@ -124,7 +124,9 @@ class DiagnosisSpec(BaseModel):
         "is set to their number",
     )
     record_seed: int = Field(100, ge=0, description="simulation seed of the judged (faulty) run")
-    threshold_k: float = Field(3.0, gt=0, description="threshold = mean + k·std of the baseline")
+    threshold_k: float | None = Field(
+        None, gt=0, description="fixed threshold factor (mean + k·σ per indicator); default: "
+        "from false_alarm_probability, k = Φ⁻¹(1 − α) with the Šidák level α over all tests")
     sigma_floor: float = Field(
         0.05, ge=0, lt=1,
         description="std floored at this fraction of |mean| (deterministic baselines)",

@@ -33,8 +33,9 @@ The verdict keeps an alarm only where the evidence passes (see :func:`isolate`).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -172,6 +173,9 @@ class IsolationBlocks:
     domains: dict[str, np.ndarray]
     of: dict[str, str]
     of_te: dict[str, str] = field(default_factory=dict)
+    of_planet: dict[str, str] = field(default_factory=dict)
+    """planet → domain key of its planet-separated rows (McFadden 1994 windows at a ring
+    sensor, :mod:`geardyn.diagnosis.planets`)."""
 
 
 def _uniform(x: np.ndarray, time: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -277,12 +281,37 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
             if b is not None:
                 out.domains[key] = b
                 out.of_te[w] = key
+    for name, rows in _planet_rows(ds, cfg, channel, ref, skip_s).items():
+        if rows.shape[0] >= 2:
+            out.domains[f"planet {name}"] = rows
+            out.of_planet[name] = f"planet {name}"
     return out
+
+
+def _planet_rows(ds, cfg, channel: str, reference: str, skip_s: float  # noqa: ANN001
+                 ) -> dict[str, np.ndarray]:
+    """Planet-separated rows of every planet seen by the channel (empty when the module or
+    the geometry does not apply: not a ring sensor, ring turning, too few passes)."""
+    try:
+        from geardyn.diagnosis.planets import planet_domains
+    except ImportError:
+        return {}
+    try:
+        return planet_domains(ds, cfg, channel, reference=reference, skip_s=skip_s)
+    except InputError:
+        return {}
 
 
 @dataclass(frozen=True)
 class Evidence:
-    """Isolation evidence of one component: record value, baseline statistics, threshold."""
+    """Isolation evidence of one component: a statistic of the record, the same statistic of
+    every healthy baseline member (its null sample) and the bound a healthy record exceeds
+    with probability ``alpha`` (:func:`evidence_from_null`).
+
+    ``mean`` is the geometric mean of the null sample and ``std`` the standard deviation of
+    its logarithm; ``z`` the record's standardised score ``(log value − μ)/(s·√(1 + 1/n))``
+    and ``p`` its one-sided Student p-value; ``group``: components whose evidence comes from
+    one signal domain (they cannot be told apart by it)."""
 
     component: str
     measure: str
@@ -290,68 +319,215 @@ class Evidence:
     mean: float
     std: float
     threshold: float
+    z: float = float("nan")
+    p: float = float("nan")
+    n: int = 0
+    group: str = ""
+    null: tuple[float, ...] = ()
 
     @property
     def passed(self) -> bool:
-        return bool(np.isfinite(self.value) and self.value > self.threshold)
+        return bool(np.isfinite(self.value) and np.isfinite(self.threshold)
+                    and self.value > self.threshold)
+
+    @property
+    def margin(self) -> float:
+        """``value / threshold`` (> 1 ⇔ the evidence passes at its false-alarm probability)."""
+        return float(self.value / self.threshold) if self.threshold > 0 else float("nan")
 
 
-def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks, k: float = 3.0,
-                 aligned: bool = True, floor: float = SDR_FLOOR) -> dict[str, Evidence]:
-    """SDR of the record per component against the healthy baselines, with the baseline's own
-    SDRs (each baseline against the others: leave-one-out) giving mean μ and std σ; threshold
-    ``max(μ + k·σ, floor)``. ``aligned``: compare revolution r with the baselines' revolution r
-    (runs of one operating profile, e.g. simulated baselines: deterministic content at other
-    periods cancels); else with the baselines' mean revolution."""
+#: Floor of the standard deviation of log(statistic) over the baseline members: a numerical
+#: floor, not a tuning — below 1 % the members agree to within round-off of the statistics'
+#: own estimators, and a smaller spread would make any change of a few per cent "evidence".
+LOG_SPREAD_FLOOR = 0.01
+
+
+def evidence_from_null(component: str, measure: str, value: float, null: Sequence[float],
+                       alpha: float, group: str = "") -> Evidence:
+    """Evidence of ``value`` against the null sample ``null`` (the statistic of each healthy
+    baseline member), on the log scale (the statistics are positive ratios with right-skewed
+    spread): with μ, s the mean and sample std (ddof = 1, floored at
+    :data:`LOG_SPREAD_FLOOR`) of the n log values, the threshold is the one-sided Student
+    prediction bound ``exp(μ + t_(n−1)(1 − α)·s·√(1 + 1/n))`` that a new healthy record
+    exceeds with probability α (Hahn & Meeker 1991, ch. 4); ``z = (log value − μ)/(s·√(1 +
+    1/n))`` is the record's standardised score and ``p = P(T_(n−1) > z)`` its one-sided
+    p-value. The Student law sets the threshold (the false-alarm probability with an
+    estimated spread); the localisation posterior compares the hypotheses of one record by
+    their scores z on one footing (a Gaussian likelihood ratio: with few members the Student
+    tails would make every large score look alike). Fewer than 2 null values: no threshold
+    (NaN)."""
+    from scipy.stats import t as student
+
+    vals = np.asarray([v for v in null if np.isfinite(v)], float)
+    tiny = np.finfo(float).tiny
+    n = vals.size
+    if n < 2 or not np.isfinite(value):
+        return Evidence(component, measure, float(value), math.nan, math.nan, math.nan,
+                        group=group, n=n, null=tuple(float(v) for v in vals))
+    logs = np.log(np.maximum(vals, tiny))
+    mu = float(np.mean(logs))
+    s = max(float(np.std(logs, ddof=1)), LOG_SPREAD_FLOOR)
+    scale = s * math.sqrt(1.0 + 1.0 / n)
+    threshold = math.exp(mu + float(student.isf(alpha, n - 1)) * scale)
+    z = (math.log(max(float(value), tiny)) - mu) / scale
+    p = float(student.sf(z, n - 1))
+    return Evidence(component, measure, float(value), math.exp(mu), s, threshold, z=z, p=p,
+                    n=n, group=group, null=tuple(float(v) for v in vals))
+
+
+# ---- coherent (per-order) synchronous deviation -----------------------------------------
+
+@dataclass(frozen=True)
+class OrderStats:
+    """Per-order synchronous statistics of one run's revolutions in one own-angle domain:
+    ``mean`` the mean revolution's spectrum (complex, orders 0…spr/2, amplitude scaled by
+    1/spr so that runs resampled with other samples per revolution compare), ``var`` the
+    within-run variance of the revolutions' spectra (ddof = 1), ``n`` the revolutions. Small
+    enough to store per sweep case, and all :func:`coherent_sdr` needs."""
+
+    mean: np.ndarray
+    var: np.ndarray
+    n: int
+
+
+def order_stats(rows: np.ndarray) -> OrderStats:
+    """:class:`OrderStats` of revolutions ``rows`` (n_rev × samples_per_rev, n_rev ≥ 2)."""
+    r = np.asarray(rows, float)
+    if r.ndim != 2 or r.shape[0] < 2:
+        raise InputError("rows: needs at least 2 revolutions (rows) for per-order statistics")
+    spec = np.fft.rfft(r, axis=1) / r.shape[1]
+    m = spec.mean(axis=0)
+    v = np.sum(np.abs(spec - m) ** 2, axis=0) / (r.shape[0] - 1)
+    return OrderStats(m, v, int(r.shape[0]))
+
+
+def coherent_sdr(record: OrderStats, baselines: Sequence[OrderStats]) -> float:
+    """Coherent synchronous deviation ratio of ``record`` against ``baselines`` (one
+    :class:`OrderStats` per healthy run of the same domain): per order o ≥ 1,
+
+        F_o = |m_rec(o) − B(o)|² / ( V(o)·(1/n_rec + 1/N_B) ),
+
+    with B the revolution-weighted mean of the baselines' mean spectra, N_B their revolutions
+    and V the pooled within-run variance of the record and baselines (one-way analysis of
+    variance of the revolutions, per order: Braun 1975, McFadden 1987); cSDR is the mean of
+    F_o over the orders that carry variance (orders removed by the difference signal carry
+    none). Without a synchronous change, E[F_o] ≈ 1 whatever the power of the order, so a
+    strong line that does not repeat with the member counts as one order among many, while
+    a local fault, which repeats every revolution and spreads over many orders, raises them
+    all. Orders beyond the shortest run's grid are left out."""
+    if not baselines:
+        raise InputError("baselines: the coherent SDR needs at least 1 healthy run")
+    k = min([record.mean.size, *(b.mean.size for b in baselines)])
+    nb = np.array([b.n for b in baselines], float)
+    big_n = float(nb.sum())
+    b_mean = np.sum([b.n * b.mean[:k] for b in baselines], axis=0) / big_n
+    dof = float(np.sum(nb - 1) + record.n - 1)
+    pooled = (np.sum([(b.n - 1) * b.var[:k] for b in baselines], axis=0)
+              + (record.n - 1) * record.var[:k]) / dof
+    top = float(np.max(pooled[1:])) if k > 1 else 0.0
+    ok = np.zeros(k, bool)
+    ok[1:] = pooled[1:] > 1e-12 * top
+    if top <= 0.0 or not ok.any():
+        return math.nan
+    num = np.abs(record.mean[:k] - b_mean) ** 2
+    # round-off: a deterministic simulation repeated with other sensor seeds gives mean
+    # spectra equal to ~1e-13 of their amplitude; a difference below 1e-10 of it is none
+    num[num <= ROUND_OFF * (np.abs(record.mean[:k]) ** 2 + np.abs(b_mean) ** 2)] = 0.0
+    f = num / (pooled * (1.0 / record.n + 1.0 / big_n))
+    return float(np.mean(f[ok]))
+
+
+#: Relative power below which two mean spectra are taken as equal (amplitude 1e-10: far
+#: above the ~1e-13 round-off of resampling and FFTs in double precision, far below any
+#: physical change).
+ROUND_OFF = 1e-20
+
+
+def coherent_evidence(component: str, measure: str, record: OrderStats,
+                      baselines: Sequence[OrderStats], alpha: float, group: str = ""
+                      ) -> Evidence:
+    """cSDR of the record and its null sample: each baseline member's cSDR against the
+    others (leave-one-out — the member itself is never in its own reference, and the record
+    is in none), then :func:`evidence_from_null`."""
     if len(baselines) < 2:
-        raise InputError("baselines: the synchronous deviation ratio needs at least 2 healthy "
-                         "records (leave-one-out statistics)")
+        raise InputError("baselines: the coherent SDR needs at least 2 healthy records "
+                         "(leave-one-out null)")
+    null = [coherent_sdr(b, [o for j, o in enumerate(baselines) if j != i])
+            for i, b in enumerate(baselines)]
+    return evidence_from_null(component, measure, coherent_sdr(record, baselines), null,
+                              alpha, group)
+
+
+def domain_stats(blocks: IsolationBlocks) -> dict[str, OrderStats]:
+    """:class:`OrderStats` of every domain of ``blocks`` with at least 2 revolutions."""
+    return {k: order_stats(v) for k, v in blocks.domains.items() if v.shape[0] >= 2}
+
+
+def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
+                 alpha: float) -> dict[str, Evidence]:
+    """Coherent SDR evidence per rotating component (:func:`coherent_evidence`): ``cSDR`` in
+    its own-angle domain; ``cSDR_TE`` on the transmission error of its own mesh, which
+    replaces it for a wheel (the shaft's signal is shared by its wheels); ``cSDR_planet`` on
+    the planet-separated rows of a planet (``record.of_planet``). ``alpha``: false-alarm
+    probability of each test."""
+    base = [domain_stats(b) for b in baselines]
+    rec = domain_stats(record)
+    cache: dict[str, Evidence] = {}
     out: dict[str, Evidence] = {}
-    items = [(c, key, "SDR") for c, key in record.of.items()]
-    # a wheel with the TE of its own mesh is judged on it (the shaft's signal is shared)
-    items += [(c, key, "SDR_TE") for c, key in record.of_te.items()
-              if all(key in b.domains for b in baselines)]
+    items = [(c, key, "cSDR") for c, key in record.of.items()]
+    items += [(c, key, "cSDR_TE") for c, key in record.of_te.items()]
+    items += [(c, key, "cSDR_planet") for c, key in record.of_planet.items()]
     for comp, key, measure in items:
-        sets = [b.domains.get(key) for b in baselines]
-        rec = record.domains.get(key)
-        if rec is None or any(s is None or s.shape[1] != rec.shape[1] for s in sets):
+        if key not in rec or any(key not in b for b in base):
             continue
-        n0 = min([rec.shape[0], *(s.shape[0] for s in sets)])
-        if n0 < 2:
+        if key not in cache:
+            cache[key] = coherent_evidence("", measure, rec[key], [b[key] for b in base],
+                                           alpha, group=key)
+        ev = cache[key]
+        if measure == "cSDR_planet":
+            out.setdefault(f"{comp}#planet", replace(ev, component=comp))
             continue
-
-        def ratio(x: np.ndarray, refs: list[np.ndarray], n0: int = n0) -> float:
-            if aligned:
-                ref = np.mean([r[:n0] for r in refs], axis=0)
-                return synchronous_deviation_ratio(x[:n0] - ref, np.zeros(x.shape[1]))
-            ref = np.mean(np.concatenate(refs), axis=0)
-            return synchronous_deviation_ratio(x[:n0], ref)
-
-        base = [ratio(s, [o for j, o in enumerate(sets) if j != i]) for i, s in enumerate(sets)]
-        mu, sd = float(np.mean(base)), float(np.std(base, ddof=1))
-        out[comp] = Evidence(comp, measure, ratio(rec, sets), mu, sd, max(mu + k * sd, floor))
+        out[comp] = replace(ev, component=comp)
     return out
 
 
-#: Members sharing an own angle or a planetary stage keep an alarm only above this fraction of
-#: the largest margin (measured, seed 002, 1 mm crack on the z 42 pinion: TE SDR margins 42
-#: (z 42) and 14 (z 53); seed 004 sun crack over 2.6 carrier revolutions: sun 4.75, ring just
-#: above 1).
-SAME_ANGLE_RELATIVE = 0.5
+# ---- bearings: fault-band energy of the squared-envelope spectrum -----------------------
 
-#: A bearing's best line family must concentrate the envelope increase on its comb at least
-#: this many times more than on the spectrum as a whole …
-CONCENTRATION_MIN = 4.0
-#: … and at least this fraction of the best concentration over all bearings.
-CONCENTRATION_RELATIVE = 0.5
+def comb_mask(orders: np.ndarray, line: float, top: float) -> np.ndarray:
+    """Bins within ±1 bin of every harmonic ``k·line ≤ top`` of an order grid (leakage and
+    slip of a bearing line)."""
+    o = np.asarray(orders, float)
+    step = float(o[1] - o[0])
+    comb = np.zeros(o.size, bool)
+    if not np.isfinite(line) or line <= 2 * step:
+        return comb
+    for k in range(1, int(top / line) + 1):
+        i = int(round((k * line - o[0]) / step))
+        comb[max(i - 1, 0):min(i + 2, o.size)] = True
+    return comb
 
 
-def bearing_evidence(baselines: Sequence, record, order_max: float | None = None,  # noqa: ANN001
-                     ) -> dict[str, Evidence]:
-    """Line-family concentrations (:func:`line_family_shares`) of every bearing line from the
-    squared-envelope spectra of ``Features`` objects (baselines interpolated onto the record's
-    order grid); per bearing its best line, threshold ``max(CONCENTRATION_MIN,
-    CONCENTRATION_RELATIVE × best concentration of all bearings)``."""
+def band_energy_share(orders: np.ndarray, spectrum: np.ndarray, line: float,
+                      order_max: float | None = None) -> float:
+    """Fault-band energy share of a squared-envelope spectrum: ``Σ S²`` over the line's
+    comb (:func:`comb_mask`) divided by ``Σ S²`` over the whole band up to ``order_max``
+    (MathWorks ``faultBandMetrics``' total band power, as a fraction, so that a sensitivity
+    or transfer-path gain cancels)."""
+    o = np.asarray(orders, float)
+    s = np.asarray(spectrum, float)
+    top = float(o[-1]) if order_max is None else min(float(order_max), float(o[-1]))
+    inside = o <= top
+    total = float(np.sum(s[inside] ** 2))
+    comb = comb_mask(o, line, top) & inside
+    return float(np.sum(s[comb] ** 2)) / total if total > 0 and comb.any() else math.nan
+
+
+def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
+                     order_max: float | None = None) -> dict[str, Evidence]:
+    """Per bearing, the fault-band energy share (:func:`band_energy_share`) of each of its
+    lines (BPFO, BPFI, BSF, FTF) in the record's squared-envelope spectrum against the same
+    share in every baseline member (:func:`evidence_from_null`); the bearing's evidence is
+    its line with the largest score. Each line is one test at ``alpha``."""
     spec = getattr(record, "envelope_spectrum", None)
     comps = getattr(record, "components", None)
     if spec is None or comps is None:
@@ -362,103 +538,29 @@ def bearing_evidence(baselines: Sequence, record, order_max: float | None = None
         s = getattr(b, "envelope_spectrum", None)
         if s is None:
             return {}
-        base.append(np.interp(o, np.asarray(s["order"].values, float), np.asarray(s.values)))
-    lines = {(c.name, ln): float(f) for c in comps.bearings for ln, f in c.fault_orders.items()}
-    if not lines:
-        return {}
-    shares = line_family_shares(o, np.asarray(spec.values, float), base, lines, order_max)
-    best: dict[str, LineShare] = {}
-    for sh in shares:
-        if sh.bearing not in best or sh.concentration > best[sh.bearing].concentration:
-            best[sh.bearing] = sh
-    top = max(sh.concentration for sh in best.values())
-    th = max(CONCENTRATION_MIN, CONCENTRATION_RELATIVE * top)
-    return {b: Evidence(b, f"{sh.line} concentration", sh.concentration, 0.0, 0.0, th)
-            for b, sh in best.items()}
+        base.append((np.asarray(s["order"].values, float), np.asarray(s.values, float)))
+    out: dict[str, Evidence] = {}
+    for c in comps.bearings:
+        for line, f in c.fault_orders.items():
+            value = band_energy_share(o, np.asarray(spec.values, float), f, order_max)
+            null = [band_energy_share(bo, bs, f, order_max) for bo, bs in base]
+            ev = evidence_from_null(c.name, f"{line} band energy", value, null, alpha,
+                                    group=c.name)
+            best = out.get(c.name)
+            if best is None or (np.isfinite(ev.z) and not ev.z <= best.z):
+                out[c.name] = ev
+    return out
 
 
-def isolate(verdict, evidence: dict[str, Evidence], components=None) -> list[str]:  # noqa: ANN001
-    """Keep a component's alarm only where its isolation evidence passes; record the evidence
-    as an indicator of the component. Rules (single-fault isolation):
-
-    1. a rotating component is in alarm exactly when its synchronous deviation ratio passes
-       (an F statistic with a known null, thresholded against the baseline: it detects and
-       isolates); a bearing in alarm whose line share does not pass becomes ``healthy`` (its
-       envelope lines rose, but they explain little of the change);
-    2. toothed members in alarm that share an own angle (the wheels of one shaft, judged on
-       the transmission error of their own meshes) or a planetary stage (sun, ring and planets
-       seen through one sensor path) keep their alarm only if their margin is at least
-       :data:`SAME_ANGLE_RELATIVE` of the largest — the fault's own mesh or member shows it
-       most; a neighbour shows it through the shaft's torsion, or, over few carrier
-       revolutions, through nearly commensurate fault periods (a sun fault's 3·83/19 = 13.105
-       impulses per carrier revolution look almost carrier-synchronous over two revolutions);
-    3. a rotating member whose detection indicators alarm but that has no SDR (fewer than 2
-       own revolutions in the record) becomes ``unknown``: detection alone does not localise;
-    4. a shaft in alarm whose own angle is that of a toothed member also in alarm (a ring
-       turning with the carrier, a wheel on the shaft) yields to that member, the more specific
-       explanation (its mesh orders are removed in its domain).
-
-    Returns notes describing what was changed (also appended to ``verdict.notes``)."""
-    from geardyn.diagnosis.verdict import IndicatorVerdict
-
-    notes: list[str] = []
-    for name, ev in evidence.items():
-        cv = verdict.components.get(name)
-        if cv is None:
-            continue
-        margin = ev.value / ev.threshold if ev.threshold > 0 else float("nan")
-        cv.indicators[ev.measure] = IndicatorVerdict(
-            value=float(ev.value), threshold=float(ev.threshold), lower=None, mean=ev.mean,
-            std=ev.std, sigma=ev.std, n=0, margin=float(margin), alarm=ev.passed,
-            direction="upper", channel=next(iter(cv.indicators.values())).channel
-            if cv.indicators else "")
-        if ev.measure.startswith("SDR"):  # a detection statistic in its own right (F ≈ 1)
-            if cv.state == "alarm" and not ev.passed:
-                notes.append(f"{name}: detection indicators rose but SDR = {ev.value:.3g} ≤ "
-                             f"{ev.threshold:.3g}: the change is not synchronous with its own "
-                             "angle (isolation)")
-            cv.state = "alarm" if ev.passed else "healthy"
-        elif cv.state == "alarm" and not ev.passed:
-            cv.state = "healthy"
-            notes.append(f"{name}: detection indicators rose but {ev.measure} = {ev.value:.3g} "
-                         f"≤ {ev.threshold:.3g}: its lines explain little of the change "
-                         "(isolation)")
-    if evidence:  # rotating members without evidence: too few own revolutions to isolate
-        rotating = [n for n, cv in verdict.components.items()
-                    if cv.kind in ROTATING and n not in evidence and cv.state == "alarm"]
-        if any(e.measure.startswith("SDR") for e in evidence.values()):
-            for n in rotating:
-                verdict.components[n].state = "unknown"
-                notes.append(f"{n}: detection indicators rose, but the record holds fewer than 2 "
-                             "whole revolutions of its own angle against the baselines, so the "
-                             "change cannot be isolated (state unknown: record longer)")
-    if components is not None:
-        ratio = {c.name: round(c.abs_ratio, 9) for c in components.items}
-        stage = {c.name: getattr(c, "stage", None) for c in components.items}
-        members = [n for n, cv in verdict.components.items()
-                   if cv.state == "alarm" and cv.kind in ("wheel", "sun", "ring", "planet")]
-        groups: dict[object, list[str]] = {}
-        for m in members:
-            if m in evidence and ratio.get(m) is not None:
-                groups.setdefault(stage.get(m) or ratio[m], []).append(m)
-        for group in groups.values():
-            margin = {m: evidence[m].value / evidence[m].threshold for m in group}
-            top = max(margin.values())
-            for m in group:
-                if margin[m] < SAME_ANGLE_RELATIVE * top:
-                    verdict.components[m].state = "healthy"
-                    best = max(margin, key=margin.get)
-                    notes.append(f"{m}: {evidence[m].measure} margin {margin[m]:.3g} is below "
-                                 f"{SAME_ANGLE_RELATIVE:g} × that of {best} ({top:.3g}), which "
-                                 "turns with it (isolation keeps the larger)")
-        members = [m for m in members if verdict.components[m].state == "alarm"]
-        for n, cv in verdict.components.items():
-            if cv.kind != "shaft" or cv.state != "alarm":
-                continue
-            same = [m for m in members if ratio.get(m) == ratio.get(n)]
-            if same:
-                cv.state = "healthy"
-                notes.append(f"{n}: shaft alarm explained by {', '.join(same)} (same own "
-                             "angle; isolation keeps the toothed member)")
-    verdict.notes.extend(notes)
-    return notes
+def evidence_tests(baselines: Sequence, record, blocks: IsolationBlocks | None  # noqa: ANN001
+                   ) -> int:
+    """Number of evidence tests the record will get (for the many-tests correction): one per
+    own-angle, TE and planet domain, and one per bearing line."""
+    n = 0
+    if blocks is not None:
+        n += len(set(blocks.of.values()) | set(blocks.of_te.values())
+                 | set(blocks.of_planet.values()))
+    comps = getattr(record, "components", None)
+    if comps is not None and getattr(record, "envelope_spectrum", None) is not None:
+        n += sum(len(c.fault_orders) for c in comps.bearings)
+    return n

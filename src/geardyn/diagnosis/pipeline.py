@@ -176,27 +176,57 @@ def judge_features(
     expected: list[ConfiguredFault] | None = None,
 ) -> Verdict:
     """Verdict of ``record`` against the healthy ``baseline`` features: reference residuals
-    (if asked), thresholds, detection per component, then isolation
-    (:mod:`geardyn.diagnosis.isolation`: synchronous deviation ratio per rotating component
-    from the per-revolution blocks — ``aligned`` for runs of one operating profile — and
-    line-family shares per bearing). Returns ``(baseline, record)`` features as used."""
-    from geardyn.diagnosis.features import with_reference_residuals
-    from geardyn.diagnosis.isolation import bearing_evidence, isolate, sdr_evidence
+    (if asked), the per-test level from the false-alarm probability (Šidák over every
+    detection indicator and isolation statistic, :mod:`geardyn.diagnosis.localise`),
+    thresholds, detection per component, isolation evidence (:mod:`geardyn.diagnosis.
+    isolation`: coherent SDR per own-angle, transmission-error and planet-separated domain
+    from the per-revolution blocks, fault-band energy per bearing line) and localisation.
+    ``aligned`` is accepted for compatibility and ignored: the evidence compares each record
+    with the baselines' mean revolution, which holds for baselines at other speeds and loads
+    too."""
+    from scipy.stats import norm
 
+    from geardyn.diagnosis.features import with_reference_residuals
+    from geardyn.diagnosis.isolation import bearing_evidence, evidence_tests, sdr_evidence
+    from geardyn.diagnosis.localise import localise, sidak_alpha
+    from geardyn.diagnosis.verdict import record_values
+
+    del aligned
     if opts.reference_residuals:
         baseline, record = with_reference_residuals(baseline, record)
-    rule = ThresholdRule(k=opts.threshold_k, sigma_floor=opts.sigma_floor)
-    th = thresholds([f.table for f in baseline], rule)
+    p_fa = float(getattr(opts, "false_alarm_probability", 0.01))
+    confidence = float(getattr(opts, "localisation_confidence", 0.95))
+    tables = [f.table for f in baseline]
+    blocks_ok = (record_blocks is not None and baseline_blocks is not None
+                 and len(baseline_blocks) >= 2)
+    # m tests: every usable (component, indicator, channel) threshold the record has a value
+    # for, and every isolation statistic
+    th0 = thresholds(tables, ThresholdRule(sigma_floor=opts.sigma_floor))
+    keys = set(map(tuple, record_values(record.table)[["component", "kind", "indicator",
+                                                        "channel"]].to_numpy().tolist()))
+    m_det = sum(1 for r in th0[th0["usable"]][["component", "kind", "indicator", "channel"]]
+                .to_numpy().tolist() if tuple(r) in keys)
+    m = max(m_det + evidence_tests(baseline, record, record_blocks if blocks_ok else None), 1)
+    if opts.threshold_k is not None:  # an explicit factor overrides the stated probability
+        k = float(opts.threshold_k)
+        alpha = float(norm.sf(k))
+        p_fa = float(-math.expm1(m * math.log1p(-alpha)))
+    else:
+        alpha = sidak_alpha(p_fa, m)
+        k = float(norm.isf(alpha))
+    rule = ThresholdRule(k=k, sigma_floor=opts.sigma_floor)
+    th = thresholds(tables, rule)
     items = record.components.items if record.components is not None else []
     verdict = judge(record.table, th, rule, machine=cfg.name,
                     baseline=(info or ({}, {}))[0], record_info=(info or ({}, {}))[1],
                     expected_faults=expected, components=[(c.name, c.kind) for c in items],
                     notes=record.notes)
-    evidence = bearing_evidence(baseline, record)
-    if record_blocks is not None and baseline_blocks is not None and len(baseline_blocks) >= 2:
-        evidence.update(sdr_evidence(baseline_blocks, record_blocks, k=opts.threshold_k,
-                                     aligned=aligned))
-    isolate(verdict, evidence, record.components)
+    verdict.stages = {c.name: c.stage for c in items if c.stage}
+    evidence = bearing_evidence(baseline, record, alpha)
+    if blocks_ok:
+        evidence.update(sdr_evidence(baseline_blocks, record_blocks, alpha))
+    localise(verdict, evidence, record.components, alpha=alpha, false_alarm_probability=p_fa,
+             tests=m, confidence=confidence)
     return verdict
 
 
@@ -235,6 +265,7 @@ def diagnose(
     channel: str | None = None,
     reference: str | None = None,
     k: float | None = None,
+    false_alarm_probability: float | None = None,
     sigma_floor: float | None = None,
     n_blocks: int | None = None,
     skip_s: float | None = None,
@@ -258,6 +289,7 @@ def diagnose(
 
     opts = options(cfg, baseline_seeds=baseline_seeds, record_seed=record_seed, channel=channel,
                    reference=reference, threshold_k=k, sigma_floor=sigma_floor, blocks=n_blocks,
+                   false_alarm_probability=false_alarm_probability,
                    skip_s=skip_s, t_end_s=t_end_s, revolutions=revolutions,
                    reference_residuals=reference_residuals)
     out = check_output_dir(out_dir)
@@ -266,21 +298,24 @@ def diagnose(
                           f"{opts.baseline_seeds}; the record must be an independent run")
     run_length = _run_length(cfg, opts)
     healthy = healthy_variant(cfg)
-    n = len(opts.baseline_seeds) + 1
+    from geardyn.diagnosis.ensemble import simulate_baseline
+
+    runs = len(opts.baseline_seeds)
+    n = runs + 1
     feats = []
     blocks: list[IsolationBlocks] = []
-    for i, seed in enumerate(opts.baseline_seeds):
-        what = f"healthy baseline, seed {seed}"
+    drawn: list[dict[str, Any]] = []
 
-        def tick(f: float, i: int = i, what: str = what) -> None:
-            _say(progress, f"simulating {what}", (i + 0.9 * f) / n)
+    def tick(message: str, f: float) -> None:
+        _say(progress, message, f * runs / n)
 
-        ds = run_simulation(healthy, seed=seed, progress=tick, **run_length)
+    for member, ds in simulate_baseline(healthy, opts, run_length, progress=tick):
+        what = f"healthy baseline {member.label}"
         _check_status(ds, what)
         ch = _channel(ds, opts.channel, what)
-        _say(progress, f"indicators of {what}", (i + 0.9) / n)
         feats.append(_features(ds, cfg, ch, opts))
         blocks.append(_blocks(ds, cfg, ch, opts))
+        drawn.append({"label": member.label, "seed": member.seed, **member.values})
         del ds
     what = f"record (configured faults), seed {opts.record_seed}"
     rec_ds = run_simulation(cfg, seed=opts.record_seed, **run_length,
@@ -293,7 +328,8 @@ def diagnose(
     rec_blocks = _blocks(rec_ds, cfg, ch, opts)
     _say(progress, "verdict and report", 0.99)
     info = ({"seeds": list(opts.baseline_seeds), "blocks": opts.blocks, **run_length,
-             "skip_s": opts.skip_s}, {"seed": opts.record_seed, **run_length})
+             "skip_s": opts.skip_s, "members": drawn},
+            {"seed": opts.record_seed, **run_length})
     verdict = _finish(cfg, out, opts, feats, record, rec_ds, ch, info, fault_list(cfg),
                       blocks=(blocks, rec_blocks), aligned=True)
     _say(progress, "done", 1.0)
@@ -319,6 +355,7 @@ def diagnose_files(
     channel: str | None = None,
     reference: str | None = None,
     k: float | None = None,
+    false_alarm_probability: float | None = None,
     sigma_floor: float | None = None,
     n_blocks: int | None = None,
     skip_s: float | None = None,
@@ -333,6 +370,7 @@ def diagnose_files(
     if not baseline_paths:
         raise InputError("baseline: give at least one healthy result file (--baseline)")
     opts = options(cfg, channel=channel, reference=reference, threshold_k=k,
+                   false_alarm_probability=false_alarm_probability,
                    sigma_floor=sigma_floor, blocks=n_blocks, skip_s=skip_s,
                    reference_residuals=reference_residuals)
     out = check_output_dir(out_dir)

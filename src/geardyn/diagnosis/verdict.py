@@ -31,7 +31,7 @@ from geardyn.diagnosis.baseline import KEYS, ThresholdRule, check_table, directi
 from geardyn.diagnosis.faults import ConfiguredFault
 
 SCHEMA = "geardyn.verdict/1"
-STATES = ("healthy", "alarm", "unknown")
+STATES = ("healthy", "alarm", "uncertain", "unknown")
 
 
 @dataclass(frozen=True)
@@ -83,11 +83,13 @@ class ComponentVerdict:
 
 
 def is_isolation_measure(name: str) -> bool:
-    """True for the evidence that :func:`geardyn.diagnosis.isolation.isolate` adds: the
-    synchronous deviation ratios ``SDR``/``SDR_*`` and bearing line-comb concentrations
-    ``'<LINE> concentration'``."""
+    """True for the isolation evidence that :func:`geardyn.diagnosis.localise.localise` adds:
+    the coherent synchronous deviation ratios ``cSDR``/``cSDR_*`` (and the older ``SDR``
+    names), bearing fault-band energies ``'<LINE> band energy'`` and line-comb
+    concentrations ``'<LINE> concentration'``."""
     key = name.rpartition(":")[2]
-    return key == "SDR" or key.startswith("SDR_") or key.endswith(" concentration")
+    return (key in ("SDR", "cSDR") or key.startswith(("SDR_", "cSDR_"))
+            or key.endswith((" concentration", " band energy")))
 
 
 @dataclass
@@ -104,29 +106,71 @@ class Verdict:
     """Faults configured in the record (None: not known, e.g. a measured record)."""
     notes: list[str] = field(default_factory=list)
     """Why components or indicators could not be judged (e.g. too few revolutions)."""
+    detection: dict[str, Any] | None = None
+    """Machine-level detection (:func:`geardyn.diagnosis.localise.localise`): ``detected``,
+    ``false_alarm_probability``, ``tests``, ``alpha_per_test``, ``alarms``."""
+    localisation: dict[str, Any] | None = None
+    """Location of a detected fault: ``state`` (``localised``, ``uncertain``, ``none``),
+    ``level``, ``components``, ``confidence`` (posterior), ``candidates``, ``score``."""
+    stages: dict[str, str] = field(default_factory=dict)
+    """Planetary stage of each planet (the planet set is one location)."""
 
     @property
     def alarms(self) -> list[str]:
         """Components in alarm."""
         return [c for c, v in self.components.items() if v.state == "alarm"]
 
+    @property
+    def state(self) -> str:
+        """Machine verdict: ``alarm`` (detected and localised), ``uncertain`` (detected, location
+        uncertain) or ``healthy`` (nothing detected; components not judged are listed
+        ``unknown``). Without a detection step (plain :func:`judge`): ``alarm`` when any
+        component alarms."""
+        if self.detection is None:
+            return "alarm" if self.alarms else "healthy"
+        if not self.detection.get("detected"):
+            return "healthy"
+        loc = self.localisation or {}
+        return "alarm" if loc.get("state") == "localised" else "uncertain"
+
+    @property
+    def location(self) -> list[str]:
+        """Components the fault is localised to (empty unless localised)."""
+        if self.localisation is None:
+            return self.alarms
+        return list(self.localisation.get("components") or [])
+
     def summary(self) -> dict[str, Any]:
-        """Counts, alarms and (with configured faults) whether the alarms match them: ``missed``
-        faulty components not in alarm, ``unexpected`` alarms elsewhere — an alarm on the shaft
-        carrying a faulty wheel or bearing is not unexpected (its TSA contains the wheel)."""
+        """Machine ``verdict`` (:attr:`state`), ``location`` and its ``confidence``,
+        ``candidates`` when uncertain, counts, alarms and (with configured faults) whether the
+        location matches them: ``missed`` faulty components not covered by the location,
+        ``unexpected`` location components elsewhere — the shaft carrying a faulty wheel or
+        bearing, and the other planets of a planet set holding a faulty planet, are not
+        unexpected —, ``localised`` (detected, located, none missed, none unexpected) and
+        ``planet_named`` (a faulty planet named alone; null without a planet fault)."""
+        from geardyn.diagnosis.localise import expected_match
+
         states = [v.state for v in self.components.values()]
+        loc = self.localisation or {}
         out: dict[str, Any] = {
+            "verdict": self.state,
+            "detected": self.state != "healthy",
+            "location": self.location,
+            "confidence": loc.get("confidence"),
+            "candidates": [c["component"] for c in loc.get("candidates", [])]
+            if self.state == "uncertain" else [],
             "alarms": self.alarms,
             "counts": {s: states.count(s) for s in STATES},
         }
         if self.expected_faults is not None:
             expected = sorted({f.component for f in self.expected_faults})
             carriers = {f.shaft for f in self.expected_faults if f.shaft}
+            kinds = {n: c.kind for n, c in self.components.items()}
+            m = expected_match(self.location, expected, carriers, kinds, self.stages)
             out["expected"] = expected
-            out["missed"] = [c for c in expected if c not in self.alarms]
-            out["unexpected"] = [c for c in self.alarms if c not in expected and not (
-                c in carriers and self.components[c].kind == "shaft")]
-            out["localised"] = not out["missed"] and not out["unexpected"]
+            out.update(m)
+            out["localised"] = (self.state == "alarm" and not m["missed"]
+                                and not m["unexpected"]) if expected else self.state == "healthy"
         return out
 
     def table(self) -> pd.DataFrame:
@@ -180,7 +224,11 @@ class Verdict:
                                 else [asdict(f) for f in self.expected_faults]),
             "components": comps,
             "notes": list(self.notes),
+            "detection": self.detection,
+            "localisation": self.localisation,
             "summary": self.summary(),
+            "indicator_definitions": _definitions(
+                {k.rpartition(":")[2] for c in self.components.values() for k in c.indicators}),
         }
         return _clean(out)
 
@@ -191,6 +239,20 @@ class Verdict:
             p = p / "verdict.json"
         write_text(p, json.dumps(self.to_dict(), indent=2, ensure_ascii=False) + "\n")
         return p
+
+
+def _definitions(names: set[str]) -> dict[str, Any]:
+    """Definition, unit and reference of every indicator name (docs/indicators.md)."""
+    try:
+        from geardyn.diagnosis.explain import explain
+    except ImportError:
+        return {}
+    out = {}
+    for n in sorted(names):
+        e = explain(n)
+        if e is not None:
+            out[n] = {k: v for k, v in asdict(e).items() if k != "name"}
+    return out
 
 
 def _clean(obj: Any) -> Any:

@@ -1,0 +1,265 @@
+"""Detection and localisation: two answers of one verdict.
+
+**Detection** (the machine): is the record outside the healthy population? Every judged
+detection indicator of every component (μ + k·σ over the baseline ensemble,
+:mod:`geardyn.diagnosis.baseline`) and every isolation statistic (:mod:`geardyn.diagnosis.
+isolation`) is one test. With m tests and a stated machine false-alarm probability P, each test
+runs at the Šidák level
+
+    α = 1 − (1 − P)^(1/m)                                   (Šidák 1967)
+
+so that a healthy record raises any alarm with probability at most P when the tests are
+independent, and less when they are positively correlated (indicators of one signal are); the
+detection threshold factor is k = Φ⁻¹(1 − α). The machine is *detected* when any test
+passes. A detection is never reported healthy: isolation decides *where*, not *whether*.
+
+**Localisation** (the component): which hypothesis explains the change? Each signal domain
+whose evidence exists is one hypothesis — a component, or the components that domain cannot
+tell apart (the planets of a stage in their common own angle; a shaft and the wheels on it
+without transmission-error channels). Each hypothesis h has a standardised score z_h of its
+evidence against its own null sample, ``(log value − μ)/(s·√(1 + 1/n))`` over the baseline
+members (:func:`geardyn.diagnosis.isolation.evidence_from_null`), and a generalised likelihood
+ratio Λ_h = exp(½·max(z_h, 0)²) (the maximum-likelihood mean shift of a unit-variance Gaussian
+score against no shift). With a uniform prior over
+the hypotheses (single fault), the **posterior** is
+
+    P(h | record) = Λ_h / Σ_g Λ_g.
+
+The record is *localised* to h when P(h) ≥ the stated confidence (default 0.95), otherwise
+the location is *uncertain* and the candidates are the most probable hypotheses whose
+posteriors add up to the confidence. A shaft hypothesis yields to a toothed member turning
+with it whose evidence passes its threshold (the member is the more specific explanation of
+the same synchronous change). A planet set (the planets' common domain) is refined by the
+planet-separated evidence (McFadden 1994 windows): the same posterior among the planets names
+one when it reaches the confidence, else the location is the planet set.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+from geardyn.diagnosis.isolation import ROTATING, Evidence
+from geardyn.errors import InputError
+
+TOOTHED = ("wheel", "sun", "ring", "planet")
+
+
+def sidak_alpha(false_alarm_probability: float, tests: int) -> float:
+    """Per-test level α = 1 − (1 − P)^(1/m) (Šidák 1967) for a family false-alarm
+    probability P over m tests."""
+    p = float(false_alarm_probability)
+    if not (math.isfinite(p) and 0.0 < p < 1.0):
+        raise InputError(f"false_alarm_probability: must be in (0, 1), got {p!r}")
+    m = max(int(tests), 1)
+    return float(-math.expm1(math.log1p(-p) / m))
+
+
+def posterior(scores: Mapping[str, float]) -> dict[str, float]:
+    """Posterior of each hypothesis from its standardised score z (uniform prior,
+    likelihood ratio exp(½·max(z, 0)²)); non-finite scores count as z = 0."""
+    if not scores:
+        return {}
+    ll = {h: 0.5 * max(z, 0.0) ** 2 if math.isfinite(z) else 0.0 for h, z in scores.items()}
+    top = max(ll.values())
+    w = {h: math.exp(v - top) for h, v in ll.items()}
+    total = sum(w.values())
+    return {h: v / total for h, v in w.items()}
+
+
+def _credible(post: Mapping[str, float], confidence: float) -> list[str]:
+    """The most probable hypotheses whose posteriors add up to ``confidence``."""
+    out, acc = [], 0.0
+    for h in sorted(post, key=post.get, reverse=True):
+        out.append(h)
+        acc += post[h]
+        if acc >= confidence:
+            break
+    return out
+
+
+def _add_indicator(cv: Any, ev: Evidence) -> None:
+    from geardyn.diagnosis.verdict import IndicatorVerdict
+
+    channel = next(iter(cv.indicators.values())).channel if cv.indicators else ""
+    cv.indicators[ev.measure] = IndicatorVerdict(
+        value=float(ev.value), threshold=float(ev.threshold), lower=None, mean=float(ev.mean),
+        std=float(ev.std), sigma=float(ev.std), n=int(ev.n), margin=float(ev.margin),
+        alarm=ev.passed, direction="upper", channel=channel)
+
+
+def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = None, *,
+             alpha: float, false_alarm_probability: float, tests: int,
+             confidence: float = 0.95) -> list[str]:
+    """Set ``verdict.detection``, ``verdict.localisation`` and the component states from the
+    detection indicators already judged in ``verdict`` and the isolation ``evidence``
+    (component → :class:`Evidence`; planet-separated evidence under ``'<planet>#planet'``).
+
+    States: ``alarm`` (the location), ``uncertain`` (a candidate, or a component whose
+    detection indicators alarm while the location is uncertain), ``healthy`` (no alarm, or
+    detection alarms explained by the location), ``unknown`` (not judged; or a rotating member
+    whose detection indicators alarm but which has no evidence, when the fault is localised
+    elsewhere). Returns the notes (also appended to ``verdict.notes``)."""
+    from geardyn.diagnosis.verdict import is_isolation_measure
+
+    if not 0.5 <= confidence < 1.0:
+        raise InputError(f"localisation_confidence: must be in [0.5, 1), got {confidence!r}")
+    comps = verdict.components
+    info = {c.name: c for c in components.items} if components is not None else {}
+    notes: list[str] = []
+    top_ev = {c: ev for c, ev in evidence.items() if "#" not in c and c in comps}
+    planet_ev = {c.split("#")[0]: ev for c, ev in evidence.items() if c.endswith("#planet")
+                 and c.split("#")[0] in comps}
+    for c, ev in top_ev.items():
+        _add_indicator(comps[c], ev)
+    for c, ev in planet_ev.items():
+        _add_indicator(comps[c], ev)
+
+    det_alarms = [(n, k, v.margin) for n, cv in comps.items() for k, v in cv.indicators.items()
+                  if v.alarm and not is_isolation_measure(k)]
+    ev_alarms = [(c, ev.measure, ev.margin) for c, ev in top_ev.items() if ev.passed]
+    ev_alarms += [(c, ev.measure, ev.margin) for c, ev in planet_ev.items() if ev.passed]
+    alarms = sorted(det_alarms + ev_alarms, key=lambda a: -a[2] if math.isfinite(a[2]) else 0)
+    detected = bool(alarms)
+    verdict.detection = {
+        "detected": detected, "false_alarm_probability": float(false_alarm_probability),
+        "tests": int(tests), "alpha_per_test": float(alpha),
+        "alarms": [{"component": c, "indicator": k, "margin": m} for c, k, m in alarms]}
+    alarmed = {c for c, _, _ in det_alarms}
+    for c in comps.values():  # detection first: any alarm indicator or passing evidence
+        if c.indicators:
+            c.state = "alarm" if c.alarms else "healthy"
+    if not detected:
+        verdict.localisation = {"state": "none", "components": [], "confidence": None,
+                                "candidates": [], "score": _SCORE}
+        return notes
+
+    # ---- hypotheses: one per evidence group
+    groups: dict[str, list[str]] = {}
+    for c, ev in top_ev.items():
+        groups.setdefault(ev.group or c, []).append(c)
+    kind = {n: cv.kind for n, cv in comps.items()}
+
+    def ratio(n: str) -> float | None:
+        c = info.get(n)
+        return round(c.abs_ratio, 9) if c is not None else None
+
+    passing_toothed = {c for c, ev in top_ev.items() if kind.get(c) in TOOTHED and ev.passed}
+    for g, members in list(groups.items()):
+        if all(kind.get(m) == "shaft" for m in members):
+            same = sorted(t for t in passing_toothed
+                          if any(ratio(t) is not None and ratio(t) == ratio(m)
+                                 for m in members))
+            if same:
+                del groups[g]
+                notes.append(f"{', '.join(members)}: shaft evidence yields to "
+                             f"{', '.join(same)}, which turns with it (the more specific "
+                             "explanation of the same synchronous change)")
+    scores = {g: top_ev[m[0]].z for g, m in groups.items()}
+    post = posterior(scores)
+
+    def located(g: str) -> list[str]:
+        members = groups[g]
+        toothed = [m for m in members if kind.get(m) in TOOTHED]
+        return toothed or members
+
+    level = "component"
+    if post and any(math.isfinite(z) for z in scores.values()):
+        best = max(post, key=post.get)
+        cand = _credible(post, confidence)
+        loc: list[str] = located(best) if post[best] >= confidence else []
+        conf = post[best] if loc else None
+        if not loc:
+            names = [m for g in cand for m in located(g)]
+            if names and _one_planet_set(names, info, kind):
+                loc, conf = names, sum(post[g] for g in cand)
+        if loc and len(loc) > 1 and _one_planet_set(loc, info, kind):
+            level = "planet set"
+            sub = {p: planet_ev[p].z for p in loc if p in planet_ev}
+            if len(sub) == len(loc):
+                pp = posterior(sub)
+                p_best = max(pp, key=pp.get)
+                if pp[p_best] >= confidence:
+                    notes.append(f"planet set localised to {p_best} by the planet-separated "
+                                 f"evidence (posterior {pp[p_best]:.3f} among the planets)")
+                    loc, level, conf = [p_best], "planet", conf * pp[p_best]
+        candidates = [{"component": m, "posterior": post[g], "evidence": top_ev[m].measure,
+                       "value": top_ev[m].value, "threshold": top_ev[m].threshold}
+                      for g in (cand if not loc else [best]) for m in located(g)]
+    else:  # detection without isolation evidence: rank by the detection margin
+        loc, conf, candidates = [], None, []
+        for c, k, _m in alarms:
+            if c not in [x["component"] for x in candidates]:
+                candidates.append({"component": c, "posterior": None, "evidence": k,
+                                   "value": comps[c].indicators[k].value,
+                                   "threshold": comps[c].indicators[k].threshold})
+
+    if loc:
+        for n, cv in comps.items():
+            if n in loc:
+                cv.state = "alarm"
+            elif cv.state == "alarm":
+                if n not in top_ev and n not in planet_ev and cv.kind in ROTATING \
+                        and n in alarmed:
+                    cv.state = "unknown"
+                    notes.append(f"{n}: detection indicators rose, but the record holds fewer "
+                                 "than 2 whole revolutions of its own angle against the "
+                                 "baselines, so it has no isolation evidence (state unknown; "
+                                 f"the fault is localised to {', '.join(loc)})")
+                else:
+                    cv.state = "healthy"
+                    notes.append(f"{n}: its alarms are explained by the location "
+                                 f"{', '.join(loc)} (posterior {conf:.3f}; isolation)")
+        state = "localised"
+    else:
+        names = {x["component"] for x in candidates}
+        for n, cv in comps.items():
+            if n in names or (cv.state == "alarm"):
+                cv.state = "uncertain"
+                if n not in names:
+                    candidates.append({"component": n, "posterior": None,
+                                       "evidence": (cv.worst or ("", 0))[0], "value": None,
+                                       "threshold": None})
+        notes.append("detected, location uncertain: candidates "
+                     + ", ".join(x["component"] for x in candidates))
+        state = "uncertain"
+    verdict.localisation = {"state": state, "level": level if loc else None,
+                            "components": list(loc), "confidence": conf,
+                            "candidates": candidates, "score": _SCORE}
+    verdict.notes.extend(notes)
+    return notes
+
+
+_SCORE = ("posterior probability of each location hypothesis: uniform prior, likelihood "
+          "ratio exp(½·max(z, 0)²) of its evidence's Gaussian-equivalent score z against the "
+          "healthy ensemble")
+
+
+def _one_planet_set(names: list[str], info: Mapping[str, Any], kind: Mapping[str, str]) -> bool:
+    """All ``names`` are planets of one planetary stage."""
+    stages = {getattr(info.get(n), "stage", None) for n in names}
+    return all(kind.get(n) == "planet" for n in names) and len(stages) == 1 \
+        and None not in stages
+
+
+def expected_match(location: list[str], expected: list[str], carriers: set[str],
+                   kinds: Mapping[str, str], stages: Mapping[str, Any]) -> dict[str, Any]:
+    """``missed`` (expected components not covered by the location), ``unexpected``
+    (location components that are not expected: a shaft carrying a faulty member, and the
+    other planets of a planet set that holds an expected planet, are accepted) and
+    ``planet_named`` (an expected planet named alone)."""
+    exp_stages = {stages.get(c) for c in expected if kinds.get(c) == "planet"}
+    missed = [c for c in expected if c not in location]
+    unexpected = [c for c in location if c not in expected
+                  and not (c in carriers and kinds.get(c) == "shaft")
+                  and not (kinds.get(c) == "planet" and stages.get(c) in exp_stages)]
+    planet_set = [c for c in location if kinds.get(c) == "planet"]
+    missed = [c for c in missed if not (kinds.get(c) == "planet" and planet_set
+                                        and stages.get(c) in {stages.get(p) for p in planet_set})]
+    named = bool(planet_set) and len(planet_set) == 1 and planet_set[0] in expected
+    return {"missed": missed, "unexpected": unexpected,
+            "planet_named": named if any(kinds.get(c) == "planet" for c in expected) else None}
+
+
+__all__ = ["expected_match", "localise", "posterior", "sidak_alpha"]
