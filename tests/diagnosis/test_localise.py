@@ -254,3 +254,17 @@ def test_nothing_detected_is_healthy():
     _run(v, {"a": _ev("a", "cSDR", 1.0, 0.2)}, _items({"a": (1.0, None), "b": (0.0, None)}))
     assert v.state == "healthy" and v.localisation["state"] == "none"
     assert {c.state for c in v.components.values()} == {"healthy"}
+
+
+def test_leave_one_out_leaves_the_whole_dynamic_run_out():
+    """Two measurements of one dynamic run are near-copies: a member's null value must not
+    use its twin as reference (it would make the null, and so the threshold, too small)."""
+    runs = [0, 0, 1, 1, 2, 2]
+    dyn = {r: _noise(300 + r) for r in set(runs)}
+    bases = [order_stats(dyn[r] + 0.01 * _noise(400 + i)) for i, r in enumerate(runs)]
+    e = coherent_evidence("c", "cSDR", order_stats(_noise(9)), bases, 1e-3, runs=runs)
+    for i in range(len(bases)):
+        others = [b for j, b in enumerate(bases) if runs[j] != runs[i]]
+        assert e.null[i] == pytest.approx(coherent_sdr(bases[i], others), rel=1e-12)
+    naive = coherent_evidence("c", "cSDR", order_stats(_noise(9)), bases, 1e-3)
+    assert np.mean(naive.null) < 0.7 * np.mean(e.null)

@@ -176,6 +176,9 @@ class IsolationBlocks:
     of_planet: dict[str, str] = field(default_factory=dict)
     """planet → domain key of its planet-separated rows (McFadden 1994 windows at a ring
     sensor, :mod:`geardyn.diagnosis.planets`)."""
+    run: object = None
+    """The dynamic run this record was measured on (baseline ensemble members measured on one
+    run share it: a leave-one-out null leaves the whole run out)."""
 
 
 def _uniform(x: np.ndarray, time: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -444,15 +447,20 @@ ROUND_OFF = 1e-20
 
 
 def coherent_evidence(component: str, measure: str, record: OrderStats,
-                      baselines: Sequence[OrderStats], alpha: float, group: str = ""
-                      ) -> Evidence:
+                      baselines: Sequence[OrderStats], alpha: float, group: str = "",
+                      runs: Sequence[object] | None = None) -> Evidence:
     """cSDR of the record and its null sample: each baseline member's cSDR against the
     others (leave-one-out — the member itself is never in its own reference, and the record
-    is in none), then :func:`evidence_from_null`."""
+    is in none; with ``runs``, the members measured on the member's own dynamic run are left
+    out too: a re-measured twin would make the null too small), then
+    :func:`evidence_from_null`."""
     if len(baselines) < 2:
         raise InputError("baselines: the coherent SDR needs at least 2 healthy records "
                          "(leave-one-out null)")
-    null = [coherent_sdr(b, [o for j, o in enumerate(baselines) if j != i])
+    tag = list(runs) if runs is not None and None not in runs else list(range(len(baselines)))
+    if len(set(tag)) < 2:
+        tag = list(range(len(baselines)))
+    null = [coherent_sdr(b, [o for j, o in enumerate(baselines) if tag[j] != tag[i]])
             for i, b in enumerate(baselines)]
     return evidence_from_null(component, measure, coherent_sdr(record, baselines), null,
                               alpha, group)
@@ -471,6 +479,7 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
     the planet-separated rows of a planet (``record.of_planet``). ``alpha``: false-alarm
     probability of each test."""
     base = [domain_stats(b) for b in baselines]
+    runs = [getattr(b, "run", None) for b in baselines]
     rec = domain_stats(record)
     cache: dict[str, Evidence] = {}
     out: dict[str, Evidence] = {}
@@ -482,7 +491,7 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
             continue
         if key not in cache:
             cache[key] = coherent_evidence("", measure, rec[key], [b[key] for b in base],
-                                           alpha, group=key)
+                                           alpha, group=key, runs=runs)
         ev = cache[key]
         if measure == "cSDR_planet":
             out.setdefault(f"{comp}#planet", replace(ev, component=comp))

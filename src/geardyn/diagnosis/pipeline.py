@@ -315,6 +315,7 @@ def diagnose(
         ch = _channel(ds, opts.channel, what)
         feats.append(_features(ds, cfg, ch, opts))
         blocks.append(_blocks(ds, cfg, ch, opts))
+        blocks[-1].run = member.run
         drawn.append({"label": member.label, "seed": member.seed, **member.values})
         del ds
     what = f"record (configured faults), seed {opts.record_seed}"
