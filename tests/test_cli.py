@@ -63,7 +63,7 @@ def test_demo_runs_all_examples():
                  "geardyn diagnose"):
         assert step in res.output
     # the fault-to-verdict step ends with a localised alarm and the report's path
-    assert "alarm on: planetary.sun" in res.output and "alarms match" in res.output
+    assert "location: planetary.sun" in res.output and "alarms match" in res.output
     assert "report.html" in res.output
 
 
