@@ -77,17 +77,22 @@ class Machine:
         return parse_config(d)
 
     def run(self, planet, seed):
+        """Planet rows and ring-sensor samples of one run (the result itself is not kept: ten
+        100 s results held together took ~11 GB)."""
         key = (planet, seed)
         if key not in self.runs:
             from geardyn.run import run_simulation
 
             ds = run_simulation(self.variant(planet), seed=seed, t_end_s=T_END_S)
             assert ds.attrs["status"] == "ok", ds.attrs.get("diagnosis")
-            self.runs[key] = ds
+            acc = ds["sensors.ring_acc"]
+            self.runs[key] = (planet_domains(ds, self.healthy, "ring_acc", skip_s=SKIP_S),
+                              np.asarray(acc.values), float(acc.attrs["noise_rms"]))
+            del ds
         return self.runs[key]
 
     def rows(self, planet, seed):
-        return planet_domains(self.run(planet, seed), self.healthy, "ring_acc", skip_s=SKIP_S)
+        return self.run(planet, seed)[0]
 
     def statistics(self, rec):
         power, sdr = {}, {}
@@ -101,9 +106,8 @@ class Machine:
         return power, sdr
 
     def snr(self, planet, seed=100):
-        x1 = np.asarray(self.run(planet, seed)["sensors.ring_acc"].values)
-        x0 = np.asarray(self.run(None, seed)["sensors.ring_acc"].values)
-        noise = float(self.run(None, seed)["sensors.ring_acc"].attrs["noise_rms"])
+        _, x1, _ = self.run(planet, seed)
+        _, x0, noise = self.run(None, seed)
         return float(np.mean((x1 - x0) ** 2)) / noise**2
 
 

@@ -1,34 +1,28 @@
-"""Fault isolation: whose signature explains the change from the healthy baseline.
+"""Fault isolation evidence: whose signature explains the change from the healthy baseline.
 
 Detection indicators (:mod:`geardyn.diagnosis.features`) rise on many components when any
 fault changes the machine: a crack's impulses, averaged over a few revolutions of another
 member, still raise its TSA statistics, and a bearing's impacts raise every envelope line that
 happens to sit near one of their harmonics. Isolation asks a sharper question per component:
-is the change **periodic with this component's own fault period**?
+is the change **periodic with this component's own fault period**? The answer is a statistic
+per signal domain, judged against its own null sample from the healthy baseline members
+(:func:`evidence_from_null`); :mod:`geardyn.diagnosis.localise` weighs them into a location.
 
 * Rotating members (shafts, sun, ring, planets, wheels): the record is cut into its whole own
-  revolutions ``r = 1…R``; each revolution's difference signal (every mesh harmonic of the
-  member removed) minus the healthy baseline's mean difference signal gives ``d_r(θ)``.
-  The **synchronous deviation ratio**
-
-      SDR = ‖d̄‖² / ( Σ_r ‖d_r − d̄‖² / (R (R − 1)) ),   d̄ = (1/R) Σ_r d_r,
-
-  is the F statistic of a one-way analysis of variance of the revolutions: a change
-  synchronous with the member keeps its full power in the mean ``d̄``, content at any other
-  period behaves like noise across revolutions and is divided by R (synchronous averaging,
-  Braun 1975; McFadden 1987). SDR ≲ 1 when nothing synchronous changed. For a wheel on a
-  shaft shared with other wheels the orders are restricted to the wheel's unambiguous mesh
-  sidebands ``k·Z ± j`` (the sideband energy a local tooth fault modulates onto its own mesh,
-  Hanna et al. 2011).
-* Bearings: the squared-envelope spectrum's increase over the baseline, ``Δ(o) = max(0,
-  S(o) − S̄_base(o))``; the **line-family share** of a defect line L is the fraction of
-  ``Σ Δ²`` found at its harmonics ``k·f_L`` (every harmonic in range, ±1 bin), and its
-  **concentration** that share divided by the fraction of bins the comb covers (1 for an
-  increase spread evenly: a dense comb such as the cage line's matches much by chance): an
-  outer-race spall concentrates the increase on its whole BPFO comb, a line that coincides
-  with one harmonic does not (Randall & Antoni 2011 read the same comb by eye).
-
-The verdict keeps an alarm only where the evidence passes (see :func:`isolate`).
+  revolutions (difference signal: every mesh harmonic of the member removed, Zakrajsek et al.
+  1993). The **coherent synchronous deviation ratio** (:func:`coherent_sdr`) is, per order,
+  the one-way analysis-of-variance F statistic of the record's mean revolution against the
+  baselines' (Braun 1975; McFadden 1987), averaged over the orders: content that repeats with
+  the member keeps its power in the mean, content at other periods behaves like noise across
+  revolutions, and each order is judged against its own spread. For a wheel on a shaft
+  shared with other wheels, the transmission error of its own mesh (``cSDR_TE``) tells them
+  apart; planets are told apart by their planet-separated rows (``cSDR_planet``,
+  :mod:`geardyn.diagnosis.planets`). The whole-band ratio :func:`synchronous_deviation_ratio`
+  is kept for reference.
+* Bearings: the **fault-band energy share** of each defect line in the squared-envelope
+  spectrum (:func:`band_energy_share`, MathWorks ``faultBandMetrics``' band power); the
+  increase shares of :func:`line_family_shares` (Randall & Antoni 2011 read the same comb by
+  eye) are kept as a diagnostic.
 """
 
 from __future__ import annotations
@@ -141,12 +135,8 @@ def line_family_shares(orders: np.ndarray, record: np.ndarray, baselines: Sequen
         if not np.isfinite(f) or f <= 2 * step:
             out.append(LineShare(bearing, line, float(f), 0.0, 0))
             continue
-        comb = np.zeros(o.size, bool)  # ±1 bin around every harmonic (leakage, slip)
-        n = 0
-        for k in range(1, int(top / f) + 1):
-            i = int(round(k * f / step))
-            comb[max(i - 1, 0):min(i + 2, o.size)] = True
-            n += 1
+        comb = comb_mask(o, f, top)  # ±1 bin around every harmonic (leakage, slip)
+        n = int(top / f)
         share = float(np.sum(delta[comb] ** 2)) / total if total > 0 else 0.0
         coverage = float(comb.sum()) / max(int(np.sum(o <= top)), 1)
         out.append(LineShare(bearing, line, float(f), share, n,
