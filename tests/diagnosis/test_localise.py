@@ -91,7 +91,7 @@ def test_coherent_sdr_against_explicit_loops_and_its_null_mean():
     rec = _noise(9)
     got = coherent_sdr(order_stats(rec), [order_stats(b) for b in bases])
     assert got == pytest.approx(_coherent_by_loops(rec, bases), rel=1e-9)
-    # null: E[F(2, 2ν)] with ν = 4(R − 1) pooled real dof per order → ν/(ν − 1) ≈ 1
+    # null: F_o ~ F(2, ν), ν = 2·4·(R − 1) real pooled dof per order: E = ν/(ν − 2) ≈ 1
     vals = [coherent_sdr(order_stats(_noise(100 + s)), [order_stats(_noise(200 + 3 * s + j))
                                                        for j in range(3)]) for s in range(60)]
     nu = 2 * 4 * (R - 1)
