@@ -1,7 +1,10 @@
 """``diagnose`` wall time on the seed 004 reclaimer gearbox with a 20 % sun-tooth crack
 (``examples/seed004_diagnose_sun_crack.toml``: ring accelerometer, ``[diagnosis]`` settings),
-one core: healthy baseline runs (3 seeds) + the faulty record, indicators per component,
-thresholds, isolation, verdict.json and report.html. Target: under 60 s (issue 9).
+one core: the healthy baseline ensemble (``[diagnosis.ensemble]`` defaults: 6 dynamic runs, each
+measured twice) + the faulty record, indicators per component, isolation blocks, thresholds,
+localisation, verdict.json and report.html. Target: under 60 s on one core (issues 9 and 18);
+the CPU time of the process is the one-core figure (the wall time on a loaded machine is
+printed beside it).
 
 Rows: the whole ``diagnose`` call (simulated seconds per run from the example) and its phases
 timed from its progress messages (simulations with sensors; indicators and isolation blocks;
@@ -49,17 +52,20 @@ def run() -> list[dict]:
     run_simulation(cfg, seed=0, t_end_s=0.5)  # compile / load the numba cache
     clock = PhaseClock()
     with tempfile.TemporaryDirectory() as tmp:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         verdict = diagnose(cfg, tmp, progress=clock)
         t_all = time.perf_counter() - t0
+        cpu = time.process_time() - c0
         html_kb = (Path(tmp) / "report.html").stat().st_size / 1024
     n_runs = len(opts.baseline_seeds) + 1
+    n_meas = len(opts.baseline_seeds) * opts.ensemble.measurements_per_run + 1
     t_end = opts.t_end_s or cfg.planetary_dynamics.simulation.t_end_s
     sun = verdict.components.get("planetary.sun")
     ev = (sun.isolation or sun.worst) if sun is not None else None
-    rows = [{"case": f"diagnose: {n_runs} runs × {t_end:g} s simulated, verdict + report",
-             "measured": f"{t_all:.1f} s wall", "target": f"< {TARGET_S:g} s",
-             "met": t_all < TARGET_S}]
+    rows = [{"case": f"diagnose: {n_runs} runs × {t_end:g} s simulated, {n_meas} records "
+                     "judged, verdict + report",
+             "measured": f"{cpu:.1f} s CPU ({t_all:.1f} s wall)", "target": f"< {TARGET_S:g} s",
+             "met": cpu < TARGET_S}]
     for key, label in PHASES.items():
         extra = f" ({html_kb:.0f} kB page)" if key == "verdict" else ""
         rows.append({"case": label, "measured": f"{clock.totals[key]:.2f} s wall{extra}",
@@ -68,7 +74,7 @@ def run() -> list[dict]:
         "case": "verdict",
         "measured": f"alarms {verdict.alarms}"
         + (f"; sun {ev[0]} margin {ev[1]:.3g}" if ev else ""),
-        "target": "alarms on the sun (wheel or shaft) only",
+        "target": "located on the sun",
         "met": verdict.summary()["localised"],
     })
     return rows

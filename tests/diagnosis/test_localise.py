@@ -4,9 +4,10 @@ computations.
 * Šidák level α = 1 − (1 − P)^(1/m) (Šidák 1967);
 * the evidence threshold is the one-sided Student prediction bound of the log statistic
   (Hahn & Meeker 1991, ch. 4), computed here independently with scipy's t quantile;
-* the coherent SDR is the mean over orders of a per-order one-way ANOVA F ratio — computed
-  here by explicit loops over orders and revolutions; its null mean for Gaussian revolutions
-  is E[F(2, ν)] = ν/(ν − 2) with ν the pooled within-run degrees of freedom;
+* the coherent SDR is the mean over orders of a per-order random-effects ANOVA F ratio —
+  computed here by explicit loops over orders, records and revolutions; its null mean for
+  Gaussian revolutions against one baseline is E[F(2, ν)] = ν/(ν − 2) with ν the pooled
+  within-run degrees of freedom, and about 1 for a new member of a fleet that varies;
 * the posterior of a hypothesis with score z against one with score 0 is
   e^{z²/2}/(e^{z²/2} + 1).
 """
@@ -14,10 +15,12 @@ computations.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from scipy.stats import f as f_dist
 from scipy.stats import t as student
 
 from geardyn.diagnosis.isolation import (
@@ -30,7 +33,13 @@ from geardyn.diagnosis.isolation import (
     order_stats,
     synchronous_deviation_ratio,
 )
-from geardyn.diagnosis.localise import localise, posterior, sidak_alpha
+from geardyn.diagnosis.localise import (
+    combined_score,
+    localise,
+    name_planet,
+    posterior,
+    sidak_alpha,
+)
 from geardyn.diagnosis.verdict import ComponentVerdict, IndicatorVerdict, Verdict
 from geardyn.errors import InputError
 
@@ -62,23 +71,30 @@ def test_evidence_threshold_is_the_student_prediction_bound_and_rises_with_the_s
 
 
 def _coherent_by_loops(rec, bases):
-    """Independent per-order ANOVA: explicit loops over orders and revolutions."""
+    """Independent random-effects ANOVA per order: explicit loops over orders, members and
+    revolutions (Searle, Casella & McCulloch 1992, ch. 3)."""
     def spec(rows):
         n = rows.shape[1]
         k = np.arange(n // 2 + 1)
         th = 2 * np.pi * np.outer(np.arange(n), k) / n
         return (rows @ (np.cos(th) - 1j * np.sin(th))) / n
     rs, bs = spec(rec), [spec(b) for b in bases]
-    total_n = sum(b.shape[0] for b in bases)
+    m = len(bs)
     fs = []
     for o in range(1, rs.shape[1]):
-        b_mean = sum(b[:, o].sum() for b in bs) / total_n
+        means = [b[:, o].mean() for b in bs]
+        grand = sum(means) / m
         ss = sum(np.sum(np.abs(b[:, o] - b[:, o].mean()) ** 2) for b in bs)
         ss += np.sum(np.abs(rs[:, o] - rs[:, o].mean()) ** 2)
         dof = sum(b.shape[0] - 1 for b in bs) + rs.shape[0] - 1
         v = ss / dof
+        inv_n = sum(1 / b.shape[0] for b in bs) / m
+        between = 0.0
+        if m > 1:
+            between = max(sum(abs(x - grand) ** 2 for x in means) / (m - 1) - v * inv_n, 0.0)
         if v > 0:
-            fs.append(abs(rs[:, o].mean() - b_mean) ** 2 / (v * (1 / rs.shape[0] + 1 / total_n)))
+            fs.append(abs(rs[:, o].mean() - grand) ** 2
+                      / (between * (1 + 1 / m) + v * (1 / rs.shape[0] + inv_n / m)))
     return float(np.mean(fs))
 
 
@@ -91,11 +107,39 @@ def test_coherent_sdr_against_explicit_loops_and_its_null_mean():
     rec = _noise(9)
     got = coherent_sdr(order_stats(rec), [order_stats(b) for b in bases])
     assert got == pytest.approx(_coherent_by_loops(rec, bases), rel=1e-9)
-    # null: F_o ~ F(2, ν), ν = 2·4·(R − 1) real pooled dof per order: E = ν/(ν − 2) ≈ 1
+    one = coherent_sdr(order_stats(rec), [order_stats(bases[0])])
+    assert one == pytest.approx(_coherent_by_loops(rec, bases[:1]), rel=1e-9)
+    # null with one baseline (fixed effects): F_o ~ F(2, ν), ν = 2·2·(R − 1) real pooled dof
+    # per order: E = ν/(ν − 2)
+    vals = [coherent_sdr(order_stats(_noise(100 + s)), [order_stats(_noise(200 + s))])
+            for s in range(60)]
+    nu = 2 * 2 * (R - 1)
+    assert np.mean(vals) == pytest.approx(nu / (nu - 2), abs=0.05)
+    # several baselines without any between-record effect: the estimated σ_b² ≥ 0 only adds
+    # to the denominator, so the mean stays at or below the fixed-effects value
     vals = [coherent_sdr(order_stats(_noise(100 + s)), [order_stats(_noise(200 + 3 * s + j))
                                                        for j in range(3)]) for s in range(60)]
     nu = 2 * 4 * (R - 1)
-    assert np.mean(vals) == pytest.approx(nu / (nu - 2), abs=0.05)
+    assert 0.6 < np.mean(vals) < nu / (nu - 2) + 0.02
+
+
+def test_coherent_sdr_a_healthy_fleet_that_varies_is_no_evidence():
+    """Healthy machines differ (speed, load, transfer path): each record carries its own
+    synchronous pattern, here a Gaussian one of power 4× the noise per order. A new machine of
+    the same fleet scores E[F_o] = 1 against the random-effects denominator (with σ_b² and V
+    estimated from M = 12 records the mean rises to about E[1/χ²_ν/ν] for ν ≈ 2(M − 1): 1.1),
+    while the fixed-effects test of one record against another counts the fleet's spread as
+    evidence: per order E ≈ (2·4V + 2V/R)/(2V/R) = 4R + 1 = 41."""
+    def machine(seed):
+        rng = np.random.default_rng(seed)
+        pattern = 2.0 * rng.normal(0.0, 1.0, SPR)  # synchronous: repeats every revolution
+        return rng.normal(0.0, 1.0, (R, SPR)) + pattern
+
+    fleet = [order_stats(machine(s)) for s in range(12)]
+    new = [coherent_sdr(order_stats(machine(100 + i)), fleet) for i in range(20)]
+    assert 0.85 < np.mean(new) < 1.3
+    fixed = [coherent_sdr(order_stats(machine(100 + i)), [fleet[i % 12]]) for i in range(20)]
+    assert np.mean(fixed) > 5.0
 
 
 def _coloured(seed):
@@ -241,12 +285,34 @@ def test_shaft_yields_and_planet_set_and_named_planet():
     assert v.localisation["level"] == "planet set"
     assert set(v.location) == {"st.p1", "st.p2", "st.p3"}
     assert any("yields to st.ring" in n for n in v.notes)
-    # planet-separated evidence names planet 2
-    ev.update({f"st.p{i}#planet": _ev(f"st.p{i}", "cSDR_planet", 1.0, z, group=f"p{i}")
-               for i, z in ((1, 0.3), (2, 6.0), (3, 0.1))})
-    _run(v1, ev, items)
+    v2 = _verdict({k: (c.kind, c.indicators["FM4"].value) for k, c in v.components.items()})
+    # planet-separated evidence names planet 2: its deviation power is 1.5× the others' at
+    # ν = 600, where F(600, 600) exceeds 1.5 with probability ~5e-7
+    planet_ev = {f"st.p{i}#planet": replace(_ev(f"st.p{i}", "cSDR_planet", 1.0, 3.0,
+                                                group=f"p{i}"), power=pw, dof=600.0)
+                 for i, pw in ((1, 2.0), (2, 3.0), (3, 1.9))}
+    _run(v1, {**ev, **planet_ev}, items)
     assert v1.location == ["st.p2"] and v1.localisation["level"] == "planet"
     assert v1.components["st.p1"].state == "healthy"
+    # powers within the F spread (ratio 1.1 at ν = 600: P(F > 1.1) ≈ 0.12): the set stays
+    close = {k: replace(e, power=2.2 if k == "st.p2#planet" else e.power)
+             for k, e in planet_ev.items()}
+    _run(v2, {**ev, **close}, items)
+    assert v2.localisation["level"] == "planet set"
+
+
+def test_name_planet_is_the_bonferroni_f_test():
+    """Named iff every ratio's F(ν_a, ν_b) upper tail ≤ (1 − confidence)/(N − 1)."""
+    def ev(power, dof):
+        return replace(_ev("p", "cSDR_planet", 1.0, 1.0), power=power, dof=dof)
+
+    for ratio in (1.15, 1.25, 1.4):
+        sf = float(f_dist.sf(ratio, 300.0, 300.0))
+        got, p = name_planet({"a": ev(ratio, 300.0), "b": ev(1.0, 300.0),
+                              "c": ev(0.9, 300.0)}, 0.95)
+        assert p == pytest.approx(sf, rel=1e-12)
+        assert (got == "a") == (sf <= 0.025)
+    assert name_planet({"a": ev(2.0, 300.0), "b": ev(float("nan"), 300.0)}, 0.95)[0] is None
 
 
 def test_nothing_detected_is_healthy():
@@ -268,3 +334,20 @@ def test_leave_one_out_leaves_the_whole_dynamic_run_out():
         assert e.null[i] == pytest.approx(coherent_sdr(bases[i], others), rel=1e-12)
     naive = coherent_evidence("c", "cSDR", order_stats(_noise(9)), bases, 1e-3)
     assert np.mean(naive.null) < 0.7 * np.mean(e.null)
+
+
+def test_combined_score_is_the_sidak_adjusted_best():
+    """z of the best of k scores with p = 1 − (1 − Φ(−z_max))^k (Šidák 1967), computed here
+    with scipy's normal law; continuous across the small-p branches."""
+    from scipy.stats import norm
+
+    assert combined_score([2.5]) == 2.5
+    for zs in ([3.0, 1.0, -0.5], [4.0, 4.0], [6.0, 2.0, 2.0, 2.0, 2.0]):
+        p = -math.expm1(len(zs) * math.log1p(-norm.sf(max(zs))))  # 1 − (1 − p₁)^k
+        assert combined_score(zs) == pytest.approx(norm.isf(p), rel=1e-9)
+    assert combined_score([3.0, float("nan")]) == 3.0
+    assert math.isnan(combined_score([float("nan")]))
+    # far tail: k·p; beyond exp's range the asymptotic inverse, both close to z − ln(k)/z
+    for z in (12.0, 30.0, 50.0):
+        got = combined_score([z, 0.0, 0.0])
+        assert got < z and got == pytest.approx(z - math.log(3.0) / z, abs=0.01)

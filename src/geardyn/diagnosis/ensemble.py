@@ -222,6 +222,31 @@ def _check(cfg: GeardynConfig, ens: EnsembleSpec) -> None:
                           "speed and load could vary")
 
 
+def operating_point(cfg: GeardynConfig, speed_factor: float, load_factor: float
+                    ) -> GeardynConfig:
+    """``cfg`` at another operating point: every stated input speed × ``speed_factor`` and
+    every load torque × ``load_factor``, as the ensemble's speed and load factors (module
+    docstring); errors, pins and clearances nominal. Validated again as a whole."""
+    from geardyn.config.diagnosis import EnsembleSpec
+
+    for name, v in (("speed_factor", speed_factor), ("load_factor", load_factor)):
+        if not (np.isfinite(v) and v > 0):
+            raise ConfigError(f"{name}: must be a finite number > 0, got {v!r}")
+    ens = EnsembleSpec(pin_error_m=0.0, bearing_clearance_tolerance=0.0)
+    rng = np.random.default_rng(0)
+    f, g, values = float(speed_factor), float(load_factor), {}
+    upd: dict[str, Any] = {
+        "input_speeds_rpm": {k: v * f for k, v in cfg.input_speeds_rpm.items()}}
+    if getattr(cfg, "planetary_dynamics", None) is not None:
+        upd.update(_planetary(cfg, ens, f, g, 1.0, rng, values))
+    dy = getattr(cfg, "dynamics", None)
+    if dy is not None and dy.simulation is not None:
+        upd["dynamics"] = dy.model_copy(update={"simulation": _drive_sim(dy.simulation, f, g)})
+    if getattr(cfg, "transmission", None) is not None:
+        upd.update(_transmission(cfg, ens, f, g, 1.0, rng, values))
+    return _validated(cfg, upd, f"operating point (speed × {f:g}, load × {g:g})")
+
+
 def member_configs(cfg: GeardynConfig, spec: DiagnosisSpec, seed: int | None = None
                    ) -> list[Member]:
     """The baseline members of ``cfg`` (normally its healthy variant,

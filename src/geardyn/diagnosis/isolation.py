@@ -28,7 +28,7 @@ per signal domain, judged against its own null sample from the healthy baseline 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -166,6 +166,12 @@ class IsolationBlocks:
     of_planet: dict[str, str] = field(default_factory=dict)
     """planet → domain key of its planet-separated rows (McFadden 1994 windows at a ring
     sensor, :mod:`geardyn.diagnosis.planets`)."""
+    top: dict[str, int] = field(default_factory=dict)
+    """domain key → highest own order compared (the orders inside the channel band that every
+    own-angle domain of the channel covers, :func:`isolation_blocks`); all orders when absent."""
+    ambiguous: dict[str, np.ndarray] = field(default_factory=dict)
+    """domain key → orders 0…top left out of the comparison because a harmonic of another
+    turning member falls inside their resolution (:func:`ambiguous_orders`)."""
     run: object = None
     """The dynamic run this record was measured on (baseline ensemble members measured on one
     run share it: a leave-one-out null leaves the whole run out)."""
@@ -202,15 +208,27 @@ class _Domains:
             ang = -ang
         self.x, self.fs, self.t0 = _uniform(x, time)
         self.angle = np.interp(self.t0 + np.arange(self.x.size) / self.fs, time, ang)
-        self.rate = float(np.max(np.gradient(self.angle)) * self.fs / (2 * np.pi))
+        rate = np.gradient(self.angle) * self.fs / (2 * np.pi)
+        self.rate = float(np.max(rate))
+        self.rate_min = float(max(np.min(rate), 1e-300))
         self.max_spr = max_spr
 
-    def blocks(self, abs_ratio: float, teeth: Sequence[int]) -> np.ndarray | None:
+    @property
+    def band_hz(self) -> float:
+        """Usable band of the channel [Hz]: ``fs/2.56`` (the anti-aliasing rule of
+        :func:`geardyn.signal.resample.resample_to_angle`)."""
+        return self.fs / 2.56
+
+    def blocks(self, abs_ratio: float, teeth: Sequence[int]
+               ) -> tuple[np.ndarray, float] | None:
         """Difference signal of each whole revolution of the own angle ``abs_ratio·θ_ref``
-        (None with fewer than 2 revolutions)."""
+        and the band [Hz] its orders cover unattenuated at every speed of the record (None
+        with fewer than 2 revolutions). Samples per revolution: the power of two at or above
+        ``fs`` per slowest own revolution (no band is lost to the angle grid), at most
+        ``max_spr``."""
         from geardyn.signal.resample import resample_to_angle
 
-        spr = int(2 ** np.floor(np.log2(max(self.fs / (self.rate * abs_ratio), 16.0))))
+        spr = int(2 ** np.ceil(np.log2(max(self.fs / (self.rate_min * abs_ratio), 16.0))))
         spr = min(spr, self.max_spr)
         sig = resample_to_angle(self.x, self.fs, abs_ratio * self.angle, samples_per_rev=spr,
                                 t0=self.t0)
@@ -220,18 +238,25 @@ class _Domains:
             return None
         b = revolution_blocks(seg, spr)
         ok = [z for z in teeth if 0 < z < spr // 2 - 1]
-        return difference_blocks(b, ok) if ok else b
+        band = min(float(sig.max_valid_order) * self.rate * abs_ratio, self.band_hz,
+                   0.5 * spr * self.rate_min * abs_ratio)
+        return (difference_blocks(b, ok) if ok else b), band
 
 
 def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noqa: ANN001
-                     skip_s: float = 0.0, max_samples_per_rev: int = 32768) -> IsolationBlocks:
+                     skip_s: float = 0.0, max_samples_per_rev: int = 65536) -> IsolationBlocks:
     """Per-revolution difference signals of ``channel`` of result ``ds`` in the own angle of
     every rotating component (kinematics of ``cfg``; reference angle as in
     :func:`geardyn.diagnosis.features.features_from_result`: a tacho, else the result's shaft
     angle), and of every ``transmission_error`` channel in the own angles of its pair's two
     wheels. Own angles start at the reference angle's origin, so revolution r of two runs of
     the same operating profile covers the same angles (the alignment :func:`sdr_evidence`
-    uses). Components with fewer than 2 whole revolutions are left out."""
+    uses). Components with fewer than 2 whole revolutions are left out.
+
+    Every own-angle domain of the channel is compared over one band [Hz] (``top``: the
+    orders below the narrowest domain band): a domain that reached higher would see there,
+    partly coherent over a short record, the lines of another component that its own domain
+    cannot see — evidence for the wrong component."""
     from geardyn import results
     from geardyn.diagnosis.components import machine_components
 
@@ -240,6 +265,8 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
     comps = machine_components(cfg, ref)
     main = _Domains(ds, comps, ref, channel, skip_s, max_samples_per_rev)
     out = IsolationBlocks({}, {})
+    bands: dict[str, tuple[float, float]] = {}
+    own: dict[str, float] = {}
     for c in comps.items:
         if c.kind not in ROTATING or c.abs_ratio == 0.0:
             continue
@@ -249,8 +276,16 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
             b = main.blocks(c.abs_ratio, teeth)
             if b is None:
                 continue
-            out.domains[key] = b
+            out.domains[key], band = b
+            bands[key] = (band, main.rate * c.abs_ratio)
+            own[key] = c.abs_ratio
         out.of[c.name] = key
+    _common_band(out, bands)
+    rates = sorted({c.abs_ratio for c in comps.items
+                    if c.kind in ROTATING and c.abs_ratio > 0.0})
+    for key, a in own.items():
+        out.ambiguous[key] = ambiguous_orders(a, rates, out.domains[key].shape[0],
+                                              out.top[key])
     names = {c.name for c in comps.items}
     graph = comps.analysis.graph if comps.analysis is not None else None
     for te in results.channels(ds):
@@ -272,13 +307,50 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
             # every mesh of the wheel's shaft: the TE also carries the shaft's other meshes
             b = dom.blocks(c.abs_ratio, tuple(sorted({z, *c.mesh_orders, *c.other_orders})))
             if b is not None:
-                out.domains[key] = b
+                out.domains[key] = b[0]
+                out.top[key] = int(np.floor(b[1] / (dom.rate * c.abs_ratio)))
                 out.of_te[w] = key
     for name, rows in _planet_rows(ds, cfg, channel, ref, skip_s).items():
         if rows.shape[0] >= 2:
             out.domains[f"planet {name}"] = rows
             out.of_planet[name] = f"planet {name}"
     return out
+
+
+def ambiguous_orders(own_ratio: float, ratios: Iterable[float], revolutions: int, top: int
+                     ) -> np.ndarray:
+    """Orders 0…``top`` of the own-angle domain turning ``own_ratio`` times per reference
+    revolution that a harmonic of another member (``ratios``, own revolutions per reference
+    revolution) can reach through the synchronous average of ``revolutions`` revolutions:
+    harmonic k of a member at ratio r sits at own order k·r/own_ratio, and the average passes it
+    at order o with the gain of the Dirichlet kernel, whose main lobe spans |k·r/own_ratio − o|
+    < 1/revolutions (McFadden 1987, the comb filter of the TSA). Such an order is evidence for
+    either member, so it is left out of both members' comparison; the sidelobes pass such a
+    line with a power gain below 1/(π·revolutions·δ)², far below the within-revolution
+    variance it adds."""
+    mask = np.zeros(int(top) + 1, bool)
+    if revolutions < 1 or own_ratio <= 0:
+        return mask
+    width = 1.0 / revolutions
+    for r in ratios:
+        if r <= 0 or abs(r / own_ratio - 1.0) < 1e-9:
+            continue
+        rho = r / own_ratio
+        pos = np.arange(1, int((top + 1) / rho) + 2) * rho
+        near = np.rint(pos)
+        hit = (np.abs(pos - near) < width) & (near >= 1) & (near <= top)
+        mask[near[hit].astype(int)] = True
+    return mask
+
+
+def _common_band(out: IsolationBlocks, bands: Mapping[str, tuple[float, float]]) -> None:
+    """``out.top`` of every domain in ``bands`` (key → (band [Hz], fastest own rate [rev/s])):
+    the orders below the narrowest band, so that every domain sees the same frequencies."""
+    if not bands:
+        return
+    common = min(b for b, _ in bands.values())
+    for key, (_, rate) in bands.items():
+        out.top[key] = int(np.floor(common / rate))
 
 
 def _planet_rows(ds, cfg, channel: str, reference: str, skip_s: float  # noqa: ANN001
@@ -317,6 +389,11 @@ class Evidence:
     n: int = 0
     group: str = ""
     null: tuple[float, ...] = ()
+    power: float = math.nan
+    """Planet-separated evidence: the deviation power over its healthy expectation
+    (:func:`deviation_power`), compared between the planets of one set."""
+    dof: float = math.nan
+    """Degrees of freedom of ``power``."""
 
     @property
     def passed(self) -> bool:
@@ -383,12 +460,15 @@ class OrderStats:
     n: int
 
 
-def order_stats(rows: np.ndarray) -> OrderStats:
-    """:class:`OrderStats` of revolutions ``rows`` (n_rev × samples_per_rev, n_rev ≥ 2)."""
+def order_stats(rows: np.ndarray, top: int | None = None) -> OrderStats:
+    """:class:`OrderStats` of revolutions ``rows`` (n_rev × samples_per_rev, n_rev ≥ 2), orders
+    0…``top`` (all when None)."""
     r = np.asarray(rows, float)
     if r.ndim != 2 or r.shape[0] < 2:
         raise InputError("rows: needs at least 2 revolutions (rows) for per-order statistics")
     spec = np.fft.rfft(r, axis=1) / r.shape[1]
+    if top is not None:
+        spec = spec[:, :max(int(top), 1) + 1]
     m = spec.mean(axis=0)
     v = np.sum(np.abs(spec - m) ** 2, axis=0) / (r.shape[0] - 1)
     return OrderStats(m, v, int(r.shape[0]))
@@ -396,24 +476,60 @@ def order_stats(rows: np.ndarray) -> OrderStats:
 
 def coherent_sdr(record: OrderStats, baselines: Sequence[OrderStats]) -> float:
     """Coherent synchronous deviation ratio of ``record`` against ``baselines`` (one
-    :class:`OrderStats` per healthy run of the same domain): per order o ≥ 1,
+    :class:`OrderStats` per healthy record of the same domain): per order o ≥ 1,
 
-        F_o = |m_rec(o) − B(o)|² / ( V(o)·(1/n_rec + 1/N_B) ),
+        F_o = |m_rec(o) − B(o)|² / ( σ_b²(o)·(1 + 1/M) + V(o)·(1/n_rec + ⟨1/n_j⟩/M) ),
 
-    with B the revolution-weighted mean of the baselines' mean spectra, N_B their revolutions
-    and V the pooled within-run variance of the record and baselines (one-way analysis of
-    variance of the revolutions, per order: Braun 1975, McFadden 1987); cSDR is the mean of
-    F_o over the orders that carry variance (orders removed by the difference signal carry
-    none). Without a synchronous change, E[F_o] ≈ 1 whatever the power of the order, so a
-    strong line that does not repeat with the member counts as one order among many, while
-    a local fault, which repeats every revolution and spreads over many orders, raises them
-    all. Orders beyond the shortest run's grid are left out."""
+    with B the mean of the M baselines' mean spectra, V the pooled within-record variance of
+    the revolutions (record and baselines), ⟨1/n_j⟩ the baselines' mean inverse revolution
+    count and σ_b² the between-record variance of the baselines' mean spectra beyond what
+    their within-record variance explains, ``max(Σ_j |m_j − B|²/(M − 1) − V·⟨1/n_j⟩, 0)``:
+    the one-way random-effects analysis of variance of the revolutions per order (Searle,
+    Casella & McCulloch 1992, ch. 3; for TSA orders: Braun 1975, McFadden 1987). The
+    denominator is the variance of the difference between a new healthy record's mean
+    spectrum and B, so an order that differs between healthy machines (mesh sidebands that
+    move with speed and load, a transfer path) weighs no more than an order that repeats
+    exactly. cSDR is the mean of F_o over the orders that carry variance (orders removed by
+    the difference signal carry none). Without a synchronous change, E[F_o] ≈ 1 whatever the
+    power of the order, so a strong line counts as one order among many, while a local
+    fault, which repeats every revolution and spreads over many orders, raises them all.
+    One baseline: σ_b² cannot be estimated and is 0 (the fixed-effects test). Orders beyond
+    the shortest record's grid are left out."""
+    terms = _coherent_terms(record, baselines)
+    if terms is None:
+        return math.nan
+    num, den = terms
+    return float(np.mean(num / den))
+
+
+def deviation_power(record: OrderStats, baselines: Sequence[OrderStats]
+                    ) -> tuple[float, float]:
+    """Synchronous deviation power of ``record`` against ``baselines`` over its expectation
+    for a healthy record, ``Σ_o |m_rec(o) − B(o)|² / Σ_o D(o)`` (the terms of
+    :func:`coherent_sdr`, summed before dividing: the strong orders weigh by their power), and
+    its degrees of freedom ``ν = 2(Σ D)²/Σ D²`` (Satterthwaite 1946: under no change the
+    numerator is a D-weighted sum of χ²₂/2 terms, ≈ χ²_ν/ν times its mean). Two such ratios of
+    one sensor's records compare as F(ν₁, ν₂) when neither holds a change — the test that
+    names one planet of a set (:func:`geardyn.diagnosis.localise.localise`). NaN without
+    usable orders."""
+    terms = _coherent_terms(record, baselines)
+    if terms is None:
+        return math.nan, math.nan
+    num, den = terms
+    return float(np.sum(num) / np.sum(den)), float(2.0 * np.sum(den) ** 2 / np.sum(den**2))
+
+
+def _coherent_terms(record: OrderStats, baselines: Sequence[OrderStats]
+                    ) -> tuple[np.ndarray, np.ndarray] | None:
+    """Numerators |m_rec − B|² and random-effects denominators of :func:`coherent_sdr` over
+    the orders that carry variance (None when none does)."""
     if not baselines:
         raise InputError("baselines: the coherent SDR needs at least 1 healthy run")
     k = min([record.mean.size, *(b.mean.size for b in baselines)])
     nb = np.array([b.n for b in baselines], float)
-    big_n = float(nb.sum())
-    b_mean = np.sum([b.n * b.mean[:k] for b in baselines], axis=0) / big_n
+    big_m = len(baselines)
+    means = np.array([b.mean[:k] for b in baselines])
+    b_mean = means.mean(axis=0)
     dof = float(np.sum(nb - 1) + record.n - 1)
     pooled = (np.sum([(b.n - 1) * b.var[:k] for b in baselines], axis=0)
               + (record.n - 1) * record.var[:k]) / dof
@@ -421,13 +537,20 @@ def coherent_sdr(record: OrderStats, baselines: Sequence[OrderStats]) -> float:
     ok = np.zeros(k, bool)
     ok[1:] = pooled[1:] > 1e-12 * top
     if top <= 0.0 or not ok.any():
-        return math.nan
+        return None
+    inv_n = float(np.mean(1.0 / nb))
+    between = np.zeros(k)
+    if big_m > 1:
+        spread = np.sum(np.abs(means - b_mean) ** 2, axis=0) / (big_m - 1)
+        # round-off: members that differ only in sensor noise give equal means to ~1e-13
+        spread[spread <= ROUND_OFF * np.abs(b_mean) ** 2] = 0.0
+        between = np.maximum(spread - pooled * inv_n, 0.0)
     num = np.abs(record.mean[:k] - b_mean) ** 2
     # round-off: a deterministic simulation repeated with other sensor seeds gives mean
     # spectra equal to ~1e-13 of their amplitude; a difference below 1e-10 of it is none
     num[num <= ROUND_OFF * (np.abs(record.mean[:k]) ** 2 + np.abs(b_mean) ** 2)] = 0.0
-    f = num / (pooled * (1.0 / record.n + 1.0 / big_n))
-    return float(np.mean(f[ok]))
+    den = between * (1.0 + 1.0 / big_m) + pooled * (1.0 / record.n + inv_n / big_m)
+    return num[ok], den[ok]
 
 
 #: Relative power below which two mean spectra are taken as equal (amplitude 1e-10: far
@@ -458,7 +581,8 @@ def coherent_evidence(component: str, measure: str, record: OrderStats,
 
 def domain_stats(blocks: IsolationBlocks) -> dict[str, OrderStats]:
     """:class:`OrderStats` of every domain of ``blocks`` with at least 2 revolutions."""
-    return {k: order_stats(v) for k, v in blocks.domains.items() if v.shape[0] >= 2}
+    return {k: order_stats(v, blocks.top.get(k)) for k, v in blocks.domains.items()
+            if v.shape[0] >= 2}
 
 
 def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
@@ -466,11 +590,17 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
     """Coherent SDR evidence per rotating component (:func:`coherent_evidence`): ``cSDR`` in
     its own-angle domain; ``cSDR_TE`` on the transmission error of its own mesh, which
     replaces it for a wheel (the shaft's signal is shared by its wheels); ``cSDR_planet`` on
-    the planet-separated rows of a planet (``record.of_planet``). ``alpha``: false-alarm
-    probability of each test."""
+    the planet-separated rows of a planet (``record.of_planet``, every planet from the same
+    number of rows), which also carries the planet's :func:`deviation_power` for naming one
+    planet of the set. ``alpha``: false-alarm probability of each test."""
     base = [domain_stats(b) for b in baselines]
     runs = [getattr(b, "run", None) for b in baselines]
     rec = domain_stats(record)
+    _equal_planet_rows(baselines, record, base, rec)
+    for key, mask in record.ambiguous.items():  # the record's orders for every record
+        for stats in (rec, *base):
+            if key in stats:
+                stats[key] = _without(stats[key], mask)
     cache: dict[str, Evidence] = {}
     out: dict[str, Evidence] = {}
     items = [(c, key, "cSDR") for c, key in record.of.items()]
@@ -480,14 +610,46 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
         if key not in rec or any(key not in b for b in base):
             continue
         if key not in cache:
-            cache[key] = coherent_evidence("", measure, rec[key], [b[key] for b in base],
-                                           alpha, group=key, runs=runs)
+            ref = [b[key] for b in base]
+            cache[key] = coherent_evidence("", measure, rec[key], ref, alpha, group=key,
+                                           runs=runs)
+            if measure == "cSDR_planet":
+                power, dof = deviation_power(rec[key], ref)
+                cache[key] = replace(cache[key], power=power, dof=dof)
         ev = cache[key]
         if measure == "cSDR_planet":
             out.setdefault(f"{comp}#planet", replace(ev, component=comp))
             continue
         out[comp] = replace(ev, component=comp)
     return out
+
+
+def _without(st: OrderStats, mask: np.ndarray) -> OrderStats:
+    """``st`` with the orders of ``mask`` emptied (no variance: :func:`coherent_sdr` skips
+    them)."""
+    k = min(st.mean.size, mask.size)
+    mean, var = st.mean.copy(), st.var.copy()
+    mean[:k][mask[:k]] = 0.0
+    var[:k][mask[:k]] = 0.0
+    return OrderStats(mean, var, st.n)
+
+
+def _equal_planet_rows(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
+                       base: list[dict[str, OrderStats]], rec: dict[str, OrderStats]) -> None:
+    """Planet-separated statistics of every planet from the same number of rows (the first
+    rows every record has for every planet): the noise part of the deviation power falls as
+    1/rows, so planets compare only on equal rows."""
+    keys = set(record.of_planet.values())
+    if not keys:
+        return
+    blocks = [record, *baselines]
+    n0 = min(b.domains[k].shape[0] for b in blocks for k in keys if k in b.domains)
+    if n0 < 2:
+        return
+    for stats, b in zip([rec, *base], blocks, strict=True):
+        for k in keys:
+            if k in b.domains:
+                stats[k] = order_stats(b.domains[k][:n0], b.top.get(k))
 
 
 # ---- bearings: fault-band energy of the squared-envelope spectrum -----------------------

@@ -37,7 +37,7 @@ one when it reaches the confidence, else the location is the planet set.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from geardyn.diagnosis.isolation import ROTATING, Evidence
@@ -157,6 +157,10 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
                              f"{', '.join(same)}, which turns with it (the more specific "
                              "explanation of the same synchronous change)")
     scores = {g: top_ev[m[0]].z for g, m in groups.items()}
+    for g, members in groups.items():  # a planet set: its planets' own frames seen apart too
+        seen = [planet_ev[m].z for m in members if m in planet_ev]
+        if seen and _one_planet_set(members, info, kind):
+            scores[g] = combined_score([scores[g], *seen])
     post = posterior(scores)
 
     def located(g: str) -> list[str]:
@@ -176,14 +180,15 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
                 loc, conf = names, sum(post[g] for g in cand)
         if loc and len(loc) > 1 and _one_planet_set(loc, info, kind):
             level = "planet set"
-            sub = {p: planet_ev[p].z for p in loc if p in planet_ev}
+            sub = {p: planet_ev[p] for p in loc if p in planet_ev}
             if len(sub) == len(loc):
-                pp = posterior(sub)
-                p_best = max(pp, key=pp.get)
-                if pp[p_best] >= confidence:
+                p_best, p_value = name_planet(sub, confidence)
+                if p_best is not None:
                     notes.append(f"planet set localised to {p_best} by the planet-separated "
-                                 f"evidence (posterior {pp[p_best]:.3f} among the planets)")
-                    loc, level, conf = [p_best], "planet", conf * pp[p_best]
+                                 f"evidence (its deviation power exceeds every other "
+                                 f"planet's, F test p = {p_value:.2g}; McFadden 1991)")
+                    loc, level = [p_best], "planet"
+                    conf = conf * (1.0 - (len(sub) - 1) * p_value)
         candidates = [{"component": m, "posterior": post[g], "evidence": top_ev[m].measure,
                        "value": top_ev[m].value, "threshold": top_ev[m].threshold}
                       for g in (cand if not loc else [best]) for m in located(g)]
@@ -236,6 +241,50 @@ _SCORE = ("posterior probability of each location hypothesis: uniform prior, lik
           "healthy ensemble")
 
 
+def combined_score(scores: Sequence[float]) -> float:
+    """Gaussian-equivalent score of the best of several evidence scores of one hypothesis
+    (its common-domain cSDR and the planet-separated cSDR of each planet of a set), Šidák-
+    adjusted for their number k: p = 1 − (1 − Φ(−z_max))^k, z = Φ⁻¹(1 − p) (Šidák 1967), so
+    a hypothesis with more evidence domains is not favoured by their number."""
+    from scipy.stats import norm
+
+    zs = [float(z) for z in scores if math.isfinite(z)]
+    if not zs:
+        return math.nan
+    if len(zs) == 1:
+        return zs[0]
+    k = len(zs)
+    log_p = float(norm.logsf(max(zs)))
+    if log_p < -30.0:  # 1 − (1 − p)^k = k·p to far below double precision
+        log_adj = math.log(k) + log_p
+    else:
+        log_adj = math.log(-math.expm1(k * math.log1p(-math.exp(log_p))))
+    if log_adj < -700.0:  # beyond exp's range: the asymptotic inverse of the normal tail
+        return math.sqrt(-2.0 * log_adj - math.log(-4.0 * math.pi * log_adj))
+    return float(norm.isf(math.exp(log_adj)))
+
+
+def name_planet(evidence: Mapping[str, Evidence], confidence: float
+                ) -> tuple[str | None, float]:
+    """The planet of a set whose planet-separated deviation power (``Evidence.power``, with
+    ``Evidence.dof`` degrees of freedom) exceeds every other planet's by more than chance:
+    with no change on planets a and b their power ratio is F(ν_a, ν_b) distributed, so the
+    planet with the largest power is named when each of its N − 1 ratios has an upper-tail
+    probability ≤ (1 − confidence)/(N − 1) (Bonferroni). Returns the planet (None when the
+    evidence does not separate the planets) and the largest of those probabilities."""
+    from scipy.stats import f as f_dist
+
+    usable = {p: e for p, e in evidence.items()
+              if math.isfinite(e.power) and e.power > 0 and math.isfinite(e.dof) and e.dof > 0}
+    if len(usable) < 2 or len(usable) < len(evidence):
+        return None, math.nan
+    best = max(usable, key=lambda p: usable[p].power)
+    b = usable[best]
+    p_value = max(float(f_dist.sf(b.power / e.power, b.dof, e.dof))
+                  for p, e in usable.items() if p != best)
+    return (best if p_value <= (1.0 - confidence) / (len(usable) - 1) else None), p_value
+
+
 def _one_planet_set(names: list[str], info: Mapping[str, Any], kind: Mapping[str, str]) -> bool:
     """All ``names`` are planets of one planetary stage."""
     stages = {getattr(info.get(n), "stage", None) for n in names}
@@ -262,4 +311,5 @@ def expected_match(location: list[str], expected: list[str], carriers: set[str],
             "planet_named": named if any(kinds.get(c) == "planet" for c in expected) else None}
 
 
-__all__ = ["expected_match", "localise", "posterior", "sidak_alpha"]
+__all__ = ["combined_score", "expected_match", "localise", "name_planet", "posterior",
+           "sidak_alpha"]
