@@ -351,3 +351,27 @@ def test_combined_score_is_the_sidak_adjusted_best():
     for z in (12.0, 30.0, 50.0):
         got = combined_score([z, 0.0, 0.0])
         assert got < z and got == pytest.approx(z - math.log(3.0) / z, abs=0.01)
+
+
+def test_ambiguous_orders_against_a_brute_force_search():
+    """Order o of a domain turning a times per reference revolution is ambiguous when some
+    harmonic k·r of another member lies within the TSA main lobe |k·r/a − o| < 1/n; the member
+    itself (r = a) never is."""
+    from geardyn.diagnosis.isolation import ambiguous_orders
+
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        a = float(rng.uniform(0.2, 2.0))
+        ratios = [a, *rng.uniform(0.05, 3.0, 3)]
+        n, top = int(rng.integers(2, 30)), int(rng.integers(20, 200))
+        got = ambiguous_orders(a, ratios, n, top)
+        want = np.zeros(top + 1, bool)
+        for o in range(1, top + 1):
+            for r in ratios[1:]:
+                ks = np.arange(1, int((o + 1) * a / r) + 2)
+                if np.any(np.abs(ks * r / a - o) < 1.0 / n):
+                    want[o] = True
+        assert np.array_equal(got, want)
+    # a member at half the rate reaches every order of the domain
+    assert ambiguous_orders(1.0, [1.0, 0.5], 10, 10)[1:].all()
+    assert not ambiguous_orders(1.0, [1.0], 10, 10).any()

@@ -281,8 +281,7 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
             own[key] = c.abs_ratio
         out.of[c.name] = key
     _common_band(out, bands)
-    rates = sorted({c.abs_ratio for c in comps.items
-                    if c.kind in ROTATING and c.abs_ratio > 0.0})
+    rates = member_rates(comps)
     for key, a in own.items():
         out.ambiguous[key] = ambiguous_orders(a, rates, out.domains[key].shape[0],
                                               out.top[key])
@@ -309,12 +308,32 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
             if b is not None:
                 out.domains[key] = b[0]
                 out.top[key] = int(np.floor(b[1] / (dom.rate * c.abs_ratio)))
+                out.ambiguous[key] = ambiguous_orders(c.abs_ratio, member_rates(comps),
+                                                      b[0].shape[0], out.top[key])
                 out.of_te[w] = key
     for name, rows in _planet_rows(ds, cfg, channel, ref, skip_s).items():
         if rows.shape[0] >= 2:
             out.domains[f"planet {name}"] = rows
             out.of_planet[name] = f"planet {name}"
     return out
+
+
+#: Bearing lines whose harmonics can fall on a gear's orders: the impact rates of a race or
+#: rolling-element defect (BSF's harmonics include 2·BSF, a ball striking both races). The cage
+#: line FTF is left out: it modulates the others rather than striking, and its dense harmonics
+#: (FTF ≈ 0.4 of the shaft) would reach most orders of a short record.
+AMBIGUOUS_BEARING_LINES = ("BPFO", "BPFI", "BSF")
+
+
+def member_rates(comps) -> list[float]:  # noqa: ANN001 - a Components
+    """Rates (events per reference revolution) of every member whose harmonics can reach
+    another member's orders: the own rates of the turning members and the impact lines of the
+    bearings (:data:`AMBIGUOUS_BEARING_LINES`)."""
+    rates = {c.abs_ratio for c in comps.items if c.kind in ROTATING and c.abs_ratio > 0.0}
+    for c in comps.bearings:
+        rates |= {abs(float(f)) for line, f in c.fault_orders.items()
+                  if line in AMBIGUOUS_BEARING_LINES and np.isfinite(f) and f != 0.0}
+    return sorted(rates)
 
 
 def ambiguous_orders(own_ratio: float, ratios: Iterable[float], revolutions: int, top: int

@@ -179,8 +179,13 @@ def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
     return lo, hi
 
 
+def _true(v: Any) -> bool:  # noqa: ANN401
+    """A flag of a row: True only for a true boolean (None, NaN: not true)."""
+    return isinstance(v, bool | np.bool_) and bool(v)
+
+
 def _rate(mask: pd.Series) -> dict[str, float]:
-    k, n = int(mask.sum()), int(mask.size)
+    k, n = int(np.sum(mask.to_numpy(bool))), int(mask.size)
     lo, hi = clopper_pearson(k, n)
     return {"k": k, "n": n, "rate": k / n if n else math.nan, "low": lo, "high": hi}
 
@@ -191,34 +196,34 @@ def statistics(rows: pd.DataFrame, half: str | None = "report") -> dict[str, Any
     ok = df[df["status"] == "ok"]
     healthy = ok[ok["fault_type"] == "healthy"]
     faults = ok[ok["fault_type"] != "healthy"]
-    detected = faults[faults["detected"].astype(bool)]
+    detected = faults[faults["detected"].map(_true).to_numpy(bool)]
     out: dict[str, Any] = {
         "records": int(len(df)), "failed": int((df["status"] != "ok").sum()),
         "configurations": int(df["config"].nunique()),
-        "false_alarm": _rate(healthy["detected"].astype(bool)),
-        "false_alarm_by_machine": {m: _rate(g["detected"].astype(bool))
+        "false_alarm": _rate(healthy["detected"].map(_true)),
+        "false_alarm_by_machine": {m: _rate(g["detected"].map(_true))
                                    for m, g in healthy.groupby("machine")},
-        "detection": _rate(faults["detected"].astype(bool)),
-        "isolation": _rate(detected["localised"].fillna(False).astype(bool)),
+        "detection": _rate(faults["detected"].map(_true)),
+        "isolation": _rate(detected["localised"].map(_true)),
         "detected_reported_healthy": int((detected["verdict"] == "healthy").sum()),
         "pod": {}, "isolation_by_kind": {}, "pod_snr": {},
     }
     for (m, kind, sev), g in faults.groupby(["machine", "fault_type", "severity"]):
-        out["pod"][(m, kind, sev)] = _rate(g["detected"].astype(bool))
+        out["pod"][(m, kind, sev)] = _rate(g["detected"].map(_true))
     for (m, kind), g in detected.groupby(["machine", "fault_type"]):
-        out["isolation_by_kind"][(m, kind)] = _rate(g["localised"].fillna(False).astype(bool))
+        out["isolation_by_kind"][(m, kind)] = _rate(g["localised"].map(_true))
     planets = detected[detected["fault_type"] == "planet crack"]
-    planets = planets[planets["localised"].fillna(False).astype(bool)]
-    out["planet_named"] = _rate(planets["planet_named"].fillna(False).astype(bool))
+    planets = planets[planets["localised"].map(_true).to_numpy(bool)]
+    out["planet_named"] = _rate(planets["planet_named"].map(_true))
     out["planet_named_by_machine"] = {
-        m: _rate(g["planet_named"].fillna(False).astype(bool))
+        m: _rate(g["planet_named"].map(_true))
         for m, g in planets.groupby("machine")}
     snr = faults["snr"].astype(float)
     edges = [0.0, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5, np.inf]
     for lo, hi in zip(edges[:-1], edges[1:], strict=True):
         g = faults[(snr >= lo) & (snr < hi)]
         if len(g):
-            out["pod_snr"][(lo, hi)] = _rate(g["detected"].astype(bool))
+            out["pod_snr"][(lo, hi)] = _rate(g["detected"].map(_true))
     return out
 
 
