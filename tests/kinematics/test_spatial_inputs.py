@@ -117,9 +117,9 @@ def test_dependent_inputs_are_refused(bevel):
 
 
 def test_inconsistent_pitch_angles_name_the_gear_pair(tmp_path, examples_dir):
-    text = _write(tmp_path, examples_dir).read_text().replace(
-        'a = { link = "right_wheel", teeth = 14, pitch_angle_deg = -45, wheel = "right_side_gear" }',
-        'a = { link = "right_wheel", teeth = 14, pitch_angle_deg = -30, wheel = "right_side_gear" }')
+    gear = ('a = {{ link = "right_wheel", teeth = 14, pitch_angle_deg = {}, '
+            'wheel = "right_side_gear" }}')
+    text = _write(tmp_path, examples_dir).read_text().replace(gear.format(-45), gear.format(-30))
     path = tmp_path / "bad.toml"
     path.write_text(text)
     with pytest.raises(GeardynError, match=r"gear pair '4-[56]'.*pitch angles"):

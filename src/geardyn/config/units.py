@@ -20,6 +20,7 @@ import math
 import re
 from collections.abc import Mapping
 from functools import lru_cache
+from tokenize import TokenError
 from typing import Any, NamedTuple
 
 

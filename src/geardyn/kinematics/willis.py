@@ -375,8 +375,8 @@ def axis_directions(graph: MechanismGraph, carriers: Sequence[str]) -> dict[str,
     Each multiple turning pair is one axis; gear pair (a, b) on carrier k ties the axes of a–k
     and b–k by ``φ_b = φ_a + θ_a − θ_b (mod π)`` (seed 000 eq 2 with real relative speeds).
     The axis of the first link (in the order of ``links``) turning in the frame is direction
-    0; an axis tied to no other by a gear pair is direction 0 too. A loop of gear pairs whose pitch angles disagree is a
-    :class:`KinematicsError` naming the gear pair.
+    0; an axis tied to no other by a gear pair is direction 0 too. A loop of gear pairs whose
+    pitch angles disagree is a :class:`KinematicsError` naming the gear pair.
     """
     groups = multi_turning_pairs(graph)
 
