@@ -8,6 +8,12 @@ of such a field with pint to the field's unit; a wrong dimension is an error nam
 refuses implausible magnitudes (a speed over 1e6 rpm, a length over 100 m…) with the field named:
 they are almost always a unit slip (mm typed in an m field).
 
+Unit strings are parsed by a grammar (:func:`parse_quantity`) before pint sees them, never
+evaluated: a decimal number and a unit expression, bounded in length and powers; the
+expression's dimension (and power of the radian, which pint treats as dimensionless) must be
+the field's; dimensionless units (ppm, percent) only in dimensionless fields
+(:func:`dimensionless_field`).
+
 Rotational speeds and frequencies: pint treats the radian as dimensionless, so ``"25 Hz"`` →
 rpm would be read as 25 rad/s. Here a speed or frequency written without an angle unit (Hz,
 1/s, 1/min) counts cycles (25 Hz = 1500 rpm); with one (rad/s, deg/s, rpm) it is converted
@@ -289,6 +295,8 @@ def annotate_schema(schema: dict[str, Any]) -> dict[str, Any]:
                     found = field_suffix(name)
                     if found is not None and isinstance(prop, dict):
                         _allow_strings(prop, found[1])
+                    elif dimensionless_field(name) and isinstance(prop, dict):
+                        _allow_strings(prop, DIMENSIONLESS._replace(unit="percent"))
             for value in node.values():
                 visit(value)
         elif isinstance(node, list):
