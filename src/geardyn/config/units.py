@@ -32,11 +32,12 @@ from typing import Any, NamedTuple
 
 class Suffix(NamedTuple):
     """A field-name suffix: the pint unit of the field, its dimension in words, the largest
-    plausible magnitude (SI, in the field's unit)."""
+    plausible magnitude (SI, in the field's unit) and the smallest plausible non-zero one."""
 
     unit: str
     what: str
     limit: float
+    floor: float = 0.0
 
 
 #: Field-name suffix → unit. Longest suffixes first (``_n_per_m`` before ``_m``).
@@ -47,12 +48,14 @@ SUFFIXES: dict[str, Suffix] = {
     "_n_per_m": Suffix("N/m", "a stiffness (N/m)", 1e14),
     "_kg_m3": Suffix("kg/m**3", "a density (kg/m³)", 1e5),
     "_kg_m": Suffix("kg*m", "an unbalance m·e (kg·m)", 1e4),
-    "_kgm2": Suffix("kg*m**2", "a moment of inertia (kg·m²)", 1e8),
+    # floors: a watch wheel (~1 mm, ~1 mg) has ~1e-13 kg·m²; 1e-15 kg·m² and 1e-9 kg (1 µg)
+    # leave a factor of 100-1000 below the smallest gears made
+    "_kgm2": Suffix("kg*m**2", "a moment of inertia (kg·m²)", 1e8, 1e-15),
     "_rpm": Suffix("rpm", "a rotational speed", 1e6),
     "_deg": Suffix("deg", "an angle", 3600.0),
     "_rad": Suffix("rad", "an angle", 100.0),
     "_hz": Suffix("Hz", "a frequency", 1e9),
-    "_kg": Suffix("kg", "a mass", 1e7),
+    "_kg": Suffix("kg", "a mass", 1e7, 1e-9),
     "_nm": Suffix("N*m", "a torque", 1e9),
     "_pa": Suffix("Pa", "a pressure or modulus", 1e13),
     "_m": Suffix("m", "a length", 100.0),
@@ -233,6 +236,10 @@ def _convert_value(value: Any, unit: Suffix, path: str, problems: list[str]) -> 
         problems.append(f"{path}: {value:g} {unit.unit} is implausible for {unit.what} "
                             f"(limit {unit.limit:g} {unit.unit}; a unit slip? numbers are SI "
                             "unless written with a unit, e.g. \"3 mm\")")
+    elif number and math.isfinite(value) and 0 < abs(value) < unit.floor:
+        problems.append(f"{path}: {value:g} {unit.unit} is implausible for {unit.what} "
+                        f"(smallest {unit.floor:g} {unit.unit}: below the smallest gears made; "
+                        "a unit slip?)")
     return value
 
 
