@@ -358,7 +358,8 @@ class Mechanism(_Model):
     parallel: list[ParallelStage] = Field(default_factory=list)
     bevel: list[BevelStage] = Field(default_factory=list)
     input_speeds_rpm: dict[str, float] = Field(
-        default_factory=dict, description="default input link speeds (rpm, signed)"
+        default_factory=dict,
+        description="default input link speeds (rpm, signed about each link's own axis)"
     )
 
     @model_validator(mode="after")
