@@ -149,3 +149,23 @@ def test_the_dynamic_model_does_not_depend_on_the_inputs(bevel, tmp_path, exampl
                                f"drive_pinion = {-5 * (L + R) / 2}\nleft_wheel = {L}",
                                name="drive.toml"))
     np.testing.assert_allclose(_modes(model_from_config(drive)), f, rtol=1e-9, atol=1e-6)
+
+
+def test_ratios_to_a_reference_whose_axis_is_not_0deg(examples_dir):
+    """The reclaimer's shafts after the bevel stage turn about axes at 90° from the motor's
+    (the sketch direction 0°): ratios to one of them are ω_link/ω_reference (seed 004 §6.5:
+    13/38 at the bevel, −21/68 at the parallel pair), not speeds per unit of its signed speed
+    (which would carry the factor e^{i90°})."""
+    from geardyn.config.loader import load_config as load
+    from geardyn.diagnosis.components import complex_link_ratios
+    from geardyn.signal.resample import link_ratio
+
+    kin = analyze_kinematics(load(examples_dir / "reclaimer_drive.toml"))
+    assert math.degrees(kin.axes["motor"]) == 0.0  # the first link turning in the frame
+    assert abs(math.sin(kin.axes["shaft2"])) == pytest.approx(1.0, abs=1e-12)
+    assert link_ratio(kin, "motor", "motor") == 1.0
+    assert link_ratio(kin, "shaft2", "shaft3") == pytest.approx(-21 / 68, rel=1e-12)
+    r = complex_link_ratios(kin, "shaft2")  # a reference at 90° in the sketch
+    assert r["shaft2"] == pytest.approx(1.0, abs=1e-12)
+    assert r["shaft3"] == pytest.approx(-21 / 68, rel=1e-12)  # same axis direction: real
+    assert abs(r["motor"]) == pytest.approx(38 / 13, rel=1e-12)
