@@ -156,6 +156,7 @@ CASES: list[tuple[str, str | None, dict, list[str] | None, tuple[str, ...]]] = [
     ("sw-base-missing", SW, {"sweep.base": "nope.toml"}, SWC, ("sweep.base", "does not exist")),
     ("sw-base-not-toml", SW, {"sweep.base": "{sig}/s.npy"}, SWC, ("not valid toml",)),
     ("sw-base-is-dir", SW, {"sweep.base": "{tmp}"}, SWC, ("sweep.base", "{tmp}")),
+    ("sw-base-long-name", SW, {"sweep.base": "{long}.toml"}, SWC, ("sweep.base", "255")),
     ("sw-base-number", SW, {"sweep.base": 5}, SWC, ("sweep.base", "string")),
     ("sw-sweep-missing", SW, {"sweep": DEL}, SWC, ("sweep", "required")),
     ("sw-axes-missing", SW, {"axes": DEL}, SWC, ("axes", "required")),

@@ -187,6 +187,18 @@ def nesting_depth(data: Any) -> int:
     return deepest
 
 
+def check_path_length(path: Path, what: str) -> None:
+    """ConfigError naming ``what`` when a component of ``path`` is longer than 255 bytes or
+    the path longer than 4096 (Linux NAME_MAX / PATH_MAX: the system call would fail)."""
+    text = str(path)
+    longest = max((len(c.encode("utf-8", "surrogateescape")) for c in text.split("/")),
+                  default=0)
+    if longest > 255 or len(text.encode("utf-8", "surrogateescape")) > 4096:
+        raise ConfigError(f"{what}: the file name ({longest} characters) or the path "
+                          f"({len(text)}) is longer than the file system accepts (255 per "
+                          "name, 4096 per path)")
+
+
 def read_toml(path: Path, what: str) -> dict[str, Any]:
     """Parse the TOML file ``path``; ConfigError naming the file and the rule for text that is
     not UTF-8, not TOML, nested deeper than :data:`MAX_DEPTH`, or unreadable."""
@@ -227,6 +239,7 @@ def parse_config(data: Mapping[str, Any], source: str | None = None) -> GeardynC
 def load_config(path: str | Path) -> GeardynConfig:
     """Read and validate a TOML config file."""
     p = Path(path)
+    check_path_length(p, "config file")
     if p.is_dir():
         raise ConfigError(f"config file '{p}' is a directory, expected a TOML file")
     if not p.is_file():

@@ -518,13 +518,14 @@ def validate_cases(sweep: Sweep) -> None:
 def load_spec(path: str | Path, overrides: Mapping[str, Any] | None = None) -> Sweep:
     """Read, validate and expand the sweep spec at ``path`` (TOML). ``overrides``: a mapping
     merged into the spec's tables before validation (e.g. ``{"run": {"t_end_s": 2.0}}``)."""
+    from geardyn.config.loader import check_path_length, read_toml
+
     p = Path(path)
+    check_path_length(p, "sweep spec")
     if p.is_dir():
         raise ConfigError(f"sweep spec '{p}' is a directory, expected a TOML file")
     if not p.is_file():
         raise ConfigError(f"sweep spec '{p}' does not exist")
-    from geardyn.config.loader import read_toml
-
     data = read_toml(p, "sweep spec")  # UTF-8, TOML, nesting depth (issue 20)
     return from_dict(data, p.parent, overrides, source=str(p))
 
@@ -555,6 +556,9 @@ def from_dict(data: Mapping[str, Any], root: str | Path = ".",
         spec = SweepSpec.model_validate(data)
     except ValidationError as exc:
         raise _spec_error(exc, data, source) from None
+    from geardyn.config.loader import check_path_length
+
+    check_path_length(Path(root) / spec.sweep.base, "sweep.base")
     base_path = (Path(root) / spec.sweep.base).resolve()
     if not base_path.is_file():
         raise ConfigError(f"sweep.base: config file '{base_path}' does not exist", source=source)
