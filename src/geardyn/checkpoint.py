@@ -20,6 +20,7 @@ import hashlib
 import json
 import os
 import signal
+import zipfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -109,8 +110,9 @@ def load_checkpoint(path: str | os.PathLike, digest: str) -> dict:
     try:
         with np.load(path, allow_pickle=False) as z:
             state = {k: z[k] for k in z.files}
-    except (OSError, ValueError, KeyError) as exc:
-        raise InputError(f"--resume: checkpoint {path} is unreadable ({exc})") from None
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:
+        raise InputError(f"--resume: checkpoint {path} is unreadable ({exc}); delete it and "
+                         "rerun without --resume") from None
     got = str(state.pop("__run_hash__", ""))
     if got != digest:
         raise InputError(f"--resume: checkpoint {path} belongs to another config or other "

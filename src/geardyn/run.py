@@ -76,6 +76,9 @@ def _run_simulation(cfg, seed: int = 0, t_end_s: float | None = None,  # noqa: A
     if progress is not None and ctl.progress is None:
         ctl.progress = progress
     kind = simulated_model(cfg, model)
+    from geardyn.resources import check_run
+
+    check_run(cfg, kind, t_end_s, revolutions)  # before any allocation
     if kind == "planetary":
         ds = _planetary(cfg, int(seed), t_end_s, ctl)
     elif kind == "mechanism":

@@ -29,11 +29,12 @@ def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
     [
         (["--baseline", "healthy.nc"], "--baseline and --record go together"),
         (["--seeds", "0,one"], "--seeds: expected comma-separated integers"),
-        (["--k", "0"], "diagnosis.threshold_k"),
-        (["--k", "inf"], "diagnosis.threshold_k"),
-        (["--skip", "nan"], "diagnosis.skip_s"),
-        (["--seeds", "0,0"], "diagnosis.baseline_seeds"),
-        (["--seeds", "0,1", "--record-seed", "1"], "record_seed: 1 is also a baseline seed"),
+        # issue 20: the option typed is named (then the [diagnosis] field it overrides)
+        (["--k", "0"], "'--k': must be > 0"),
+        (["--k", "inf"], "'--k': must be a finite number"),
+        (["--skip", "nan"], "'--skip': must be a finite number"),
+        (["--seeds", "0,0"], "--seeds (diagnosis.baseline_seeds)"),
+        (["--seeds", "0,1", "--record-seed", "1"], "--record-seed: 1 is also a baseline seed"),
         (["--baseline", "missing.nc", "--record", "missing.nc"], "file 'missing.nc' does not"),
         (["--baseline", "a.nc", "--record", "b.nc", "--seeds", "1"], "are for simulated runs"),
         (["--revolutions", "4"], "diagnosis.revolutions (--revolutions): applies to the FE"),

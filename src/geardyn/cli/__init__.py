@@ -58,7 +58,22 @@ OPTION_RULES: dict[str, tuple[str, float]] = {
     "--skip": ("≥", 0), "--samples": ("≥", 4), "--samples-per-rev": ("≥", 4),
     "--ppr": ("≥", 1), "--ias-ppr": ("≥", 1), "--blocks": ("≥", 1), "--modes": ("≥", 1),
     "--max-hz": (">", 0), "--campbell": (">", 0), "--checkpoint-every": (">", 0),
+    "--sigma-floor": ("≥", 0),
 }
+
+#: Upper bounds of numeric options: option → (bound, rule, unit). Rule "implausible": the
+#: plausibility limit of the config field the option overrides (``--t-end`` as every ``_s``
+#: field, 1e7 s; ``--campbell`` as every ``_rpm`` field, 1e6 rpm; ``--fs`` as every ``_hz``
+#: field, 1e9 Hz; :data:`geardyn.config.units.SUFFIXES`); "≤" / "<": the range of that field.
+OPTION_MAX: dict[str, tuple[float, str, str]] = {
+    "--t-end": (1e7, "implausible", "s"), "--campbell": (1e6, "implausible", "rpm"),
+    "--fs": (1e9, "implausible", "Hz"), "--blocks": (64, "≤", ""),
+    "--sigma-floor": (1.0, "<", ""),
+}
+
+#: Longest file name (one path component, bytes) and path the file systems accept (POSIX
+#: NAME_MAX and PATH_MAX of Linux).
+NAME_MAX, PATH_MAX = 255, 4096
 
 #: Options naming an output FILE: its directory must exist and the path must not be a
 #: directory (checked while parsing, before any work).
@@ -84,18 +99,52 @@ def _file_callback(previous: Any) -> Any:
     return check
 
 
-def _number_callback(previous: Any, rule: tuple[str, float] | None) -> Any:
+def _name_callback(previous: Any) -> Any:
+    """A parameter callback refusing a path with a component longer than :data:`NAME_MAX`
+    bytes or longer than :data:`PATH_MAX` (the system would fail with ENAMETOOLONG)."""
+
+    def check(ctx: Any, param: Any, value: Any) -> Any:
+        values = value if isinstance(value, list | tuple) else [value]
+        for v in values:
+            if v is None:
+                continue
+            text = str(v)
+            longest = max((len(c.encode("utf-8", "surrogateescape")) for c in text.split("/")),
+                          default=0)
+            if longest > NAME_MAX:
+                raise typer.BadParameter(f"a file name of {longest} characters is longer than "
+                                         f"the {NAME_MAX} the file system accepts", param=param)
+            if len(text.encode("utf-8", "surrogateescape")) > PATH_MAX:
+                raise typer.BadParameter(f"a path of {len(text)} characters is longer than the "
+                                         f"{PATH_MAX} the system accepts", param=param)
+        return previous(ctx, param, value) if previous is not None else value
+
+    return check
+
+
+def _number_callback(previous: Any, rule: tuple[str, float] | None,
+                     top: tuple[float, str, str] | None = None) -> Any:
     """A parameter callback refusing nan/inf in a numeric option (click accepts them) and
-    values outside :data:`OPTION_RULES`, then calling the option's own callback."""
+    values outside :data:`OPTION_RULES` and :data:`OPTION_MAX`, then calling the option's own
+    callback."""
 
     def check(ctx: Any, param: Any, value: Any) -> Any:
         values = value if isinstance(value, list | tuple) else [value]
         for v in values:
             if isinstance(v, float) and not math.isfinite(v):
                 raise typer.BadParameter(f"must be a finite number, got {v}", param=param)
-            if rule is not None and isinstance(v, int | float) and not isinstance(v, bool):
+            if not isinstance(v, int | float) or isinstance(v, bool):
+                continue
+            if rule is not None:
                 op, bound = rule
                 if not (v > bound if op == ">" else v >= bound):
+                    raise typer.BadParameter(f"must be {op} {bound:g}, got {v:g}", param=param)
+            if top is not None:
+                bound, op, unit = top
+                if op == "implausible" and abs(v) > bound:
+                    raise typer.BadParameter(f"{v:g} {unit} is implausible (limit {bound:g} "
+                                             f"{unit}; a unit slip?)", param=param)
+                if (op == "≤" and v > bound) or (op == "<" and v >= bound):
                     raise typer.BadParameter(f"must be {op} {bound:g}, got {v:g}", param=param)
         return previous(ctx, param, value) if previous is not None else value
 
@@ -103,8 +152,10 @@ def _number_callback(previous: Any, rule: tuple[str, float] | None) -> Any:
 
 
 #: Commands that validate their numeric options themselves, as the config fields they
-#: override (the message names both): no generic range check at parse time.
-SELF_VALIDATING = {"diagnose"}
+#: override (the message names both): no generic range check at parse time. (``diagnose``
+#: checks its options at parse time like every command, naming the option typed, then as the
+#: [diagnosis] fields they override.)
+SELF_VALIDATING: set[str] = set()
 
 
 def _finish(cmd: Any) -> Any:
@@ -118,12 +169,15 @@ def _finish(cmd: Any) -> Any:
         if getattr(param, "help", None):
             param.help = escape_markup(param.help)
         annotation = str(getattr(getattr(param, "type_descriptor", None), "annotation", ""))
-        rule = next((OPTION_RULES[o] for o in getattr(param, "opts", []) if o in OPTION_RULES),
-                    None)
-        if checked and ("float" in annotation or ("int" in annotation and rule is not None)):
-            param.callback = _number_callback(param.callback, rule)
-        if "Path" in annotation and set(getattr(param, "opts", [])) & FILE_OPTIONS:
+        opts = getattr(param, "opts", [])
+        rule = next((OPTION_RULES[o] for o in opts if o in OPTION_RULES), None)
+        top = next((OPTION_MAX[o] for o in opts if o in OPTION_MAX), None)
+        if checked and ("float" in annotation or ("int" in annotation and (rule or top))):
+            param.callback = _number_callback(param.callback, rule, top)
+        if "Path" in annotation and set(opts) & FILE_OPTIONS:
             param.callback = _file_callback(param.callback)
+        if "Path" in annotation:
+            param.callback = _name_callback(param.callback)
     cmd._geardyn_finished = True
     return cmd
 

@@ -129,3 +129,36 @@ def check_number(value: float | None, option: str, *, gt: float | None = None,
         raise InputError(f"{option}: must be ≥ {ge:g}{u}, got {value:g}")
     if le is not None and not value <= le:
         raise InputError(f"{option}: must be ≤ {le:g}{u}, got {value:g}")
+
+
+#: Protocols of a dask.distributed scheduler address.
+SCHEDULER_PROTOCOLS = ("tcp", "tls", "ws", "wss", "ucx")
+
+
+def check_scheduler(address: str, option: str = "--scheduler", timeout_s: float = 5.0) -> None:
+    """A dask scheduler address ``PROTOCOL://HOST:PORT`` (protocol tcp by default) that
+    accepts a connection within ``timeout_s``; else an InputError naming ``option``, before
+    any work (dask would fail later with an internal error or wait 30 s)."""
+    import socket
+    from urllib.parse import urlsplit
+
+    text = address.strip()
+    parts = urlsplit(text if "://" in text else f"tcp://{text}")
+    example = "e.g. tcp://10.0.0.1:8786"
+    if parts.scheme not in SCHEDULER_PROTOCOLS:
+        raise InputError(f"{option}: unknown protocol '{parts.scheme}' in {address!r} (one of "
+                         f"{', '.join(SCHEDULER_PROTOCOLS)}; {example})")
+    try:
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        raise InputError(f"{option}: {address!r} has no valid port (0-65535; {example})"
+                         ) from None
+    if not host or port is None or " " in text or parts.path not in ("", "/"):
+        raise InputError(f"{option}: {address!r} is not a scheduler address HOST:PORT "
+                         f"({example})")
+    try:
+        with socket.create_connection((host, port), timeout=timeout_s):
+            pass
+    except OSError as exc:
+        raise InputError(f"{option}: cannot connect to the scheduler at {address!r} "
+                         f"({exc.strerror or exc}); is it running?") from None

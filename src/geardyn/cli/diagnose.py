@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import typer
 from rich.markup import escape
@@ -37,7 +38,39 @@ def parse_seeds(text: str | None) -> list[int] | None:
                          f"{text!r}") from None
     if not seeds:
         raise InputError("--seeds: give at least one seed, e.g. 0,1,2")
+    bad = [x for x in seeds if x < 0]
+    if bad:
+        raise InputError(f"--seeds: seeds must be ≥ 0, got {', '.join(map(str, bad))}")
     return seeds
+
+
+#: [diagnosis] field → the diagnose option that overrides it.
+OPTION_OF = {"threshold_k": "--k", "false_alarm_probability": "--false-alarm-probability",
+             "sigma_floor": "--sigma-floor", "baseline_seeds": "--seeds",
+             "record_seed": "--record-seed", "blocks": "--blocks", "skip_s": "--skip",
+             "t_end_s": "--t-end", "revolutions": "--revolutions", "channel": "--channel",
+             "reference": "--reference"}
+
+
+def check_overrides(cfg, **given: Any) -> None:  # noqa: ANN001
+    """The options given, validated as the [diagnosis] fields they override before any run;
+    each problem names the option typed and the field (``--k (diagnosis.threshold_k): …``)."""
+    from geardyn.diagnosis.pipeline import options
+
+    given = {k: v for k, v in given.items() if v is not None}
+    try:
+        opts = options(cfg, **given)
+    except ConfigError as exc:
+        lines = []
+        for p in exc.problems:
+            field = p.split(":", 1)[0].removeprefix("diagnosis.").split(".")[0].split("[")[0]
+            opt = OPTION_OF.get(field) if field in given else None
+            lines.append(f"{opt} ({p.split(':', 1)[0]}):{p.split(':', 1)[1]}" if opt and ":" in p
+                         else p)
+        raise InputError("\n".join(lines)) from None
+    if "record_seed" in given and opts.record_seed in opts.baseline_seeds:
+        raise InputError(f"--record-seed: {opts.record_seed} is also a baseline seed "
+                         f"{opts.baseline_seeds}; the record must be an independent run")
 
 
 def _number(m: float) -> str:
@@ -159,9 +192,17 @@ def diagnose_cmd(
     problems = sensor_name_problems(cfg)
     if problems:
         raise ConfigError(problems, source=str(config))
+    check_overrides(cfg, threshold_k=k, false_alarm_probability=p_fa,
+                    sigma_floor=sigma_floor, baseline_seeds=parse_seeds(seeds),
+                    record_seed=record_seed, blocks=blocks, skip_s=skip, t_end_s=t_end,
+                    revolutions=revolutions)
     if record is None:  # simulated runs: length and channels are known before they start
         _check_skip(cfg, skip, t_end)
         _check_channel(cfg, channel)
+        from geardyn.resources import check_run
+
+        check_run(cfg, None, t_end, revolutions, t_end_name="--t-end",
+                  revolutions_name="--revolutions")
     make_output_dir(out)
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as prog:

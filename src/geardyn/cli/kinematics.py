@@ -123,7 +123,8 @@ def kinematics_json(analysis: KinematicAnalysis, freqs: CharacteristicFrequencie
 def kinematics_cmd(
     config: Path = typer.Argument(..., help="TOML file describing the mechanism"),
     input: list[str] = typer.Option(  # noqa: A002
-        None, "--input", "-i", help="input speed LINK=RPM (signed); repeat for several inputs"
+        None, "--input", "-i", help="input speed LINK=RPM, signed about the link's own axis "
+        "(docs/kinematics.md); repeat for several inputs"
     ),
     order_ref: str = typer.Option(None, "--order-ref", help="link defining order 1"),
     as_json: bool = typer.Option(False, "--json", help="print JSON instead of tables"),

@@ -22,6 +22,12 @@ from geardyn.errors import ConfigError, InputError
 MODEL_KINDS = ("planetary", "mechanism", "transmission")
 #: Speed units of ``--campbell`` → rad/s per unit.
 SPEED_UNITS = {"rpm": math.pi / 30.0, "rad/s": 1.0, "hz": 2.0 * math.pi, "rev/s": 2.0 * math.pi}
+#: Most speeds of one Campbell table: one eigenproblem each; a diagram is resolved with tens to
+#: hundreds of speeds, so this bounds the work (and the table), not the physics.
+MAX_CAMPBELL_SPEEDS = 10_000
+#: Highest Campbell speed (rpm): the plausibility limit of every speed field
+#: (:data:`geardyn.config.units.SUFFIXES`, ``_rpm``).
+MAX_CAMPBELL_RPM = 1e6
 
 
 def model_kind(cfg, kind: str | None) -> str:  # noqa: ANN001
@@ -68,6 +74,9 @@ def parse_speeds(spec: str) -> tuple[np.ndarray, str]:
             count = int(n)
             if count < 1:
                 raise InputError(f"--campbell: COUNT must be ≥ 1, got {count}")
+            if count > MAX_CAMPBELL_SPEEDS:
+                raise InputError(f"--campbell: COUNT {count} is above the limit of "
+                                 f"{MAX_CAMPBELL_SPEEDS} speeds (one eigenproblem each)")
             speeds = np.linspace(float(a), float(b), count)
         else:
             speeds = np.array([float(x) for x in text.split(",") if x])
@@ -78,6 +87,13 @@ def parse_speeds(spec: str) -> tuple[np.ndarray, str]:
                          f"(e.g. '0:3000:7 rpm'), got {spec!r}") from None
     if speeds.size == 0 or not np.all(np.isfinite(speeds)):
         raise InputError(f"--campbell: speeds must be finite numbers, got {spec!r}")
+    if speeds.size > MAX_CAMPBELL_SPEEDS:
+        raise InputError(f"--campbell: {speeds.size} speeds are above the limit of "
+                         f"{MAX_CAMPBELL_SPEEDS} (one eigenproblem each)")
+    top = float(np.abs(speeds).max()) * SPEED_UNITS[unit.lower()] * 30.0 / math.pi
+    if top > MAX_CAMPBELL_RPM:
+        raise InputError(f"--campbell: {top:g} rpm is implausible (limit "
+                         f"{MAX_CAMPBELL_RPM:g} rpm; a unit slip?)")
     return speeds, unit
 
 

@@ -87,6 +87,14 @@ def run_and_write(cfg, config: Path, out: Path | None, *, model: str | None = No
     from geardyn.run import simulated_model
 
     kind = simulated_model(cfg, model)
+    if revolutions is not None and kind != "transmission":
+        raise InputError(f"--revolutions: sets the run length of the FE transmission model "
+                         f"([transmission] speed law); this run is the {kind} model: use "
+                         "--t-end")
+    from geardyn.resources import check_run
+
+    check_run(cfg, kind, t_end, revolutions, t_end_name="--t-end",
+              revolutions_name="--revolutions")
     if plots is not None:
         if kind != "transmission":
             raise InputError("--plots: IAS figures are written for the FE transmission only "

@@ -52,7 +52,12 @@ def sweep_cmd(
     if workers is not None and scheduler is not None:
         raise InputError("--workers applies to the LocalCluster; with --scheduler the cluster "
                          "has its own workers")
+    from geardyn.cli.common import check_output_dir, check_scheduler
+
+    check_output_dir(out, "--out")
     sweep = load_spec(spec)
+    if scheduler is not None and not check:
+        check_scheduler(scheduler)
     axes = ", ".join(f"{a.name} ({len(a.values)})" for a in sweep.axes)
     console.print(f"sweep {sweep.spec.sweep.name or spec.name}: {len(sweep.cases)} cases "
                   f"[{axes}; {sweep.spec.sweep.combine}, {sweep.spec.sweep.replicates} "

@@ -63,6 +63,9 @@ def transmission_cmd(
     cfg = load_config(config)
     if cfg.transmission is None:
         raise ConfigError("no [transmission] section", source=str(config))
+    from geardyn.resources import check_run
+
+    check_run(cfg, "transmission", None, revolutions, revolutions_name="--revolutions")
     model = build_model(cfg)
     ref = cfg.transmission.speed_law.reference.shaft if cfg.transmission.speed_law else None
     prep = prepare(model, ref)

@@ -210,6 +210,19 @@ def _build(cfg_entry: GearGeometryConfig, mesh, label: str) -> PairModel:  # noq
         ),
     )
 
+    for k, (w, b, name) in enumerate(((wa, ba, "a"), (wb, bb, "b"))):
+        rim, root = w.rim_radius_m, geom.root_radius[k]
+        if rim is None:
+            continue
+        side_name = ("b" if name == "a" else "a") if swapped else name
+        if not b.internal and rim >= root:
+            raise ConfigError(
+                f"gear pair '{label}': {side_name}.rim_radius_m {rim:g} m (the bore of an "
+                f"external gear) must be below its root radius {root:.6g} m")
+        if b.internal and rim <= root:
+            raise ConfigError(
+                f"gear pair '{label}': {side_name}.rim_radius_m {rim:g} m (the outer rim of an "
+                f"internal gear) must be above its root radius {root:.6g} m")
     if cfg_entry.slice_coupling_length_ratio is not None and not cfg_entry.slice_coupling:
         raise ConfigError(
             f"gear pair '{label}': slice_coupling_length_ratio is set but slice_coupling is "

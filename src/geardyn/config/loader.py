@@ -108,6 +108,17 @@ class GeardynConfig(Mechanism):
             raise ValueError("\n".join(problems))
         return self
 
+    @model_validator(mode="after")
+    def _check_resources(self) -> GeardynConfig:
+        """The config's own runs fit the resource limits (time steps, samples of the result
+        and of every sensor channel; :mod:`geardyn.resources`), checked before any run."""
+        from geardyn.resources import run_problems
+
+        problems = run_problems(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
+
 
 def _loc_to_path(loc: tuple[Any, ...], data: Any) -> str:
     parts: list[str] = []
@@ -156,6 +167,62 @@ def format_validation_error(exc: ValidationError, data: Any) -> list[str]:
     return msgs
 
 
+#: Deepest nesting of arrays and tables accepted in a TOML file (a geardyn config or sweep
+#: spec nests a handful of levels: [[planetary_dynamics.simulation.speed_controls]] profile
+#: pairs are 5 deep).
+MAX_DEPTH = 32
+
+
+def nesting_depth(data: Any) -> int:
+    """Deepest nesting of lists and mappings in ``data`` (iterative: no recursion limit)."""
+    deepest, todo = 0, [(data, 0)]
+    while todo:
+        node, depth = todo.pop()
+        if isinstance(node, Mapping | list):
+            deepest = max(deepest, depth + 1)
+            if deepest > MAX_DEPTH:
+                return deepest
+            todo.extend((v, depth + 1) for v in (node.values() if isinstance(node, Mapping)
+                                                  else node))
+    return deepest
+
+
+def check_path_length(path: Path, what: str) -> None:
+    """ConfigError naming ``what`` when a component of ``path`` is longer than 255 bytes or
+    the path longer than 4096 (Linux NAME_MAX / PATH_MAX: the system call would fail)."""
+    text = str(path)
+    longest = max((len(c.encode("utf-8", "surrogateescape")) for c in text.split("/")),
+                  default=0)
+    if longest > 255 or len(text.encode("utf-8", "surrogateescape")) > 4096:
+        raise ConfigError(f"{what}: the file name ({longest} characters) or the path "
+                          f"({len(text)}) is longer than the file system accepts (255 per "
+                          "name, 4096 per path)")
+
+
+def read_toml(path: Path, what: str) -> dict[str, Any]:
+    """Parse the TOML file ``path``; ConfigError naming the file and the rule for text that is
+    not UTF-8, not TOML, nested deeper than :data:`MAX_DEPTH`, or unreadable."""
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"not valid TOML: {exc}", source=str(path)) from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"not valid TOML: not UTF-8 text ({exc.reason} at byte "
+                          f"{exc.start})", source=str(path)) from None
+    except RecursionError:
+        raise ConfigError(f"not valid TOML for a {what}: arrays or tables nested too deeply "
+                          f"(limit {MAX_DEPTH} levels)", source=str(path)) from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read the {what}: {exc.strerror or exc}",
+                          source=str(path)) from None
+    depth = nesting_depth(data)
+    if depth > MAX_DEPTH:
+        raise ConfigError(f"arrays or tables nested too deeply for a {what} (more than "
+                          f"{MAX_DEPTH} levels)", source=str(path))
+    return data
+
+
 def parse_config(data: Mapping[str, Any], source: str | None = None) -> GeardynConfig:
     """Validate a config held in a mapping (e.g. parsed TOML).
 
@@ -172,19 +239,10 @@ def parse_config(data: Mapping[str, Any], source: str | None = None) -> GeardynC
 def load_config(path: str | Path) -> GeardynConfig:
     """Read and validate a TOML config file."""
     p = Path(path)
+    check_path_length(p, "config file")
     if p.is_dir():
         raise ConfigError(f"config file '{p}' is a directory, expected a TOML file")
     if not p.is_file():
         raise ConfigError(f"config file '{p}' does not exist")
-    try:
-        with p.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", source=str(p)) from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"not valid TOML: not UTF-8 text ({exc.reason} at byte "
-                          f"{exc.start})", source=str(p)) from None
-    except OSError as exc:
-        raise ConfigError(f"cannot read the config file: {exc.strerror or exc}",
-                          source=str(p)) from None
+    data = read_toml(p, "config file")
     return parse_config(data, source=str(p))

@@ -49,7 +49,13 @@ def _teeth(v: object) -> object:
     return v
 
 
-Teeth = Annotated[StrictInt, BeforeValidator(_teeth), Field(ge=1, description="number of teeth")]
+#: Most teeth of one wheel: the largest gears built (girth gears of mills and kilns, ring gears
+#: of slewing drives, up to ~15 m) have a few hundred teeth; 10 000 leaves a factor of ten and
+#: refuses counts typed wrong (1e18 teeth would make every hunting period and table overflow).
+MAX_TEETH = 10_000
+
+Teeth = Annotated[StrictInt, BeforeValidator(_teeth),
+                  Field(ge=1, le=MAX_TEETH, description="number of teeth")]
 
 
 class Link(_Model):
@@ -352,7 +358,8 @@ class Mechanism(_Model):
     parallel: list[ParallelStage] = Field(default_factory=list)
     bevel: list[BevelStage] = Field(default_factory=list)
     input_speeds_rpm: dict[str, float] = Field(
-        default_factory=dict, description="default input link speeds (rpm, signed)"
+        default_factory=dict,
+        description="default input link speeds (rpm, signed about each link's own axis)"
     )
 
     @model_validator(mode="after")

@@ -36,7 +36,12 @@ string with a unit, converted with pint: `normal_module_m = "3 mm"`,
 dimension is refused naming the field (`'3 rpm' is not a length`), and so are implausible
 magnitudes (a speed over 1e6 rpm, a length over 100 m…). Speeds and frequencies without an
 angle unit count cycles (25 Hz = 1500 rpm). Non-finite numbers (`nan`, `inf`) are refused
-everywhere.
+everywhere. A unit string is parsed, never evaluated: a decimal number, then unit names joined
+by `*`, `/`, `·` or spaces with whole powers up to 4 (`"2 kg*m**2"`, `"7.8 g/cm^3"`); at most
+80 characters, no arithmetic, no power of a power, no division by a number. Angles need an
+angle unit. Dimensionless units (`percent`, `%`, `ppm`) are accepted only in dimensionless
+fields (`*_ratio`, `*_probability`, `*_fraction`, `*_confidence`, `*_coefficient`,
+`amplitude`, `modal_damping`, `sigma_floor`: `modal_damping_ratio = "2 percent"`).
 """
 
 

@@ -234,7 +234,8 @@ def complex_link_ratios(
             f"not fixed ratios of '{reference}'; give input_speeds for {analysis.dof} "
             f"independent links (candidates: {', '.join(cands)})"
         )
-    col = analysis.velocity_ratios([reference])[:, 0]
+    col = analysis.velocity_ratios([reference])[:, 0]  # per unit speed about ref's own axis
+    col = col / col[g.index(reference)]  # ω_link / ω_reference
     return {lk: complex(col[i]) for i, lk in enumerate(g.links)}
 
 

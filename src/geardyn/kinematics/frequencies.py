@@ -2,7 +2,9 @@
 
 From the link angular velocities of seed 000 eq 5 (complex, rad/s):
 
-- link speed ``|ω_i|`` (rpm, Hz) and direction ``arg ω_i`` (seed 000 §2.5);
+- link speed ``|ω_i|`` (rpm, Hz) and direction ``arg ω_i`` (seed 000 §2.5); the signed speed
+  about the link's own axis ``Re(e^{−iφ_i} ω_i)`` (axis direction ``φ_i``, NaN when the link's
+  rotation is not along its own axis: :mod:`geardyn.kinematics.willis`);
 - mesh frequency of gear pair (i, j) with carrier k: ``f_m = N_i·|ω_i − ω_k|/2π``
   (= ``N_j·|ω_j − ω_k|/2π`` by Willis, seed 000 eq 2; seed 003 eq 1.2 for fixed axes);
 - tooth-fault frequency of a wheel: one impact per revolution relative to the carrier of each
@@ -180,12 +182,12 @@ def characteristic_frequencies(
     rows = []
     for i, name in enumerate(g.links):
         w = complex(omega[i])
-        planar = abs(w.imag) <= 1e-9 * max(abs(w), 1.0)
         rows.append(
             {
                 "link": name,
                 "rpm": abs(w) / RPM_TO_RAD_S,
-                "signed_rpm": w.real / RPM_TO_RAD_S if planar else float("nan"),
+                "signed_rpm": analysis.signed_speed(name, w) / RPM_TO_RAD_S,
+                "axis_deg": math.degrees(analysis.axes[name]),
                 "hz": abs(w) / TWO_PI,
                 "direction_deg": math.degrees(math.atan2(w.imag, w.real)) if abs(w) > 0 else 0.0,
                 "order": order(abs(w) / TWO_PI),

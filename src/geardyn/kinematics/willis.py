@@ -10,10 +10,26 @@ Steps (seed 000 §2):
 
 Angular velocities are complex numbers ``|ω|e^{iφ}``: ``φ`` is the direction of the rotation
 vector in the plane of the kinematic sketch, positive clockwise (seed 000 §2.5).
+
+Axes and input speeds. Each multiple turning pair is one physical axis with a direction ``φ``
+(mod π) in the sketch plane. A gear pair (a, b) with carrier k turns a and b relative to k
+about their axes, so Willis (eq 2) holds with real relative speeds only if
+``θ_a + φ_a ≡ θ_b + φ_b (mod π)`` (both contact velocities along the common tooth axis): the
+pitch angles fix every axis direction relative to the axis of the first link (in the order of
+``links``) turning in the frame, which is the sketch direction 0° (:func:`axis_directions`;
+directions folded into (−90°, 90°]).
+The physical motions are the real relative rotations about these axes that satisfy every
+Willis row (:attr:`KinematicAnalysis.physical`): they do not depend on the input links. An
+input speed is the signed speed of its link about the link's own axis,
+``s = Re(e^{−iφ} ω)`` (positive: rotation vector along ``e^{iφ}``; for a link on a moving
+carrier, the component of its absolute rotation along its own axis); any set of ``dof``
+inputs whose speeds fix the physical motion is accepted (:meth:`velocity_ratios`).
 """
 
 from __future__ import annotations
 
+import math
+from collections import deque
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -160,7 +176,10 @@ class KinematicAnalysis:
     Attributes: ``graph``; ``carriers`` (reference link of each gear pair, in ``graph.meshes``
     order); ``T`` and ``levels`` (adjacency table); ``M`` (constraint matrix); ``rank``; ``dof``;
     ``singular_values`` (of the row-normalised M, for judging the rank decision);
-    ``nullspace`` (an orthonormal basis of ker M, N × dof).
+    ``nullspace`` (an orthonormal basis of ker M, N × dof); ``axes`` (link → direction φ of
+    its own axis, rad in (−π/2, π/2], the turning pair towards the frame; module docstring);
+    ``physical`` (N × dof complex: a basis of the physical motions, real combinations of
+    rotations about the axes, independent of any choice of inputs).
     """
 
     graph: MechanismGraph
@@ -172,6 +191,8 @@ class KinematicAnalysis:
     dof: int
     singular_values: np.ndarray
     nullspace: np.ndarray
+    axes: dict[str, float]
+    physical: np.ndarray
 
     @property
     def links(self) -> list[str]:
@@ -214,12 +235,23 @@ class KinematicAnalysis:
         inputs do not fix the motion.
         """
         inputs = list(inputs)
-        self._check_inputs(inputs)
+        sub = self._check_inputs(inputs)
+        if self.dof == 0:
+            return np.zeros((len(self.links), 0), complex)
+        return _clean(self.physical @ np.linalg.inv(sub))
+
+    def input_rows(self, inputs: Sequence[str]) -> np.ndarray:
+        """Signed speed of each input about its own axis, ``Re(e^{−iφ} ω)``, in each physical
+        motion (len(inputs) × dof, real)."""
         rows = [self.graph.index(x) for x in inputs]
-        k = self.nullspace
-        sub = k[rows, :]
-        omega0 = k @ np.linalg.inv(sub)
-        return _clean(omega0)
+        turn = np.exp(-1j * np.array([self.axes[x] for x in inputs]))[:, None]
+        return (turn * self.physical[rows, :]).real
+
+    def signed_speed(self, link: str, omega: complex) -> float:
+        """Speed of ``link`` about its own axis, ``Re(e^{−iφ} ω)`` (module docstring), or NaN
+        when its rotation is not along that axis (a link on a moving carrier of another axis)."""
+        w = complex(omega) * complex(np.exp(-1j * self.axes[link]))
+        return w.real if abs(w.imag) <= 1e-9 * max(abs(w), 1.0) else float("nan")
 
     def speeds(self, input_speeds: Mapping[str, float | np.ndarray]) -> np.ndarray:
         """Absolute angular velocities of all links, ``Ω = Ω0 Λ`` (seed 000 eq 5).
@@ -233,7 +265,7 @@ class KinematicAnalysis:
         lam = np.stack([np.asarray(input_speeds[x], dtype=float) for x in names])
         return np.tensordot(omega0, lam, axes=(1, 0))
 
-    def _check_inputs(self, inputs: list[str]) -> None:
+    def _check_inputs(self, inputs: list[str]) -> np.ndarray:
         known = set(self.graph.links)
         for x in inputs:
             if x not in known:
@@ -248,15 +280,16 @@ class KinematicAnalysis:
                 f"{self.dof} input speed(s) are needed to fix the motion (got {len(inputs)})"
             )
         if self.dof == 0:
-            return
-        sub = self.nullspace[[self.graph.index(x) for x in inputs], :]
+            return np.zeros((0, 0))
+        sub = self.input_rows(inputs)
         s = np.linalg.svd(sub, compute_uv=False)
         if s[-1] <= 1e-9 * max(s[0], 1e-300):
             raise InputError(
-                f"inputs {inputs}: do not fix the motion — their speeds are kinematically "
-                "dependent (one follows from the others), so some motion stays free; choose "
-                "independent input links"
+                f"inputs {inputs}: do not fix the motion — their speeds about their own axes "
+                "are kinematically dependent (one follows from the others), so some motion "
+                "stays free; choose independent input links"
             )
+        return sub
 
 
 def _clean(z: np.ndarray, tol: float = 1e-12) -> np.ndarray:
@@ -290,6 +323,7 @@ def analyze_graph(graph: MechanismGraph) -> KinematicAnalysis:
     n = len(graph.links)
     dof = n - rank
     nullspace = vh[rank:].conj().T
+    axes, physical = physical_motions(graph, carriers, m, dof)
     return KinematicAnalysis(
         graph=graph,
         carriers=carriers,
@@ -300,4 +334,122 @@ def analyze_graph(graph: MechanismGraph) -> KinematicAnalysis:
         dof=dof,
         singular_values=sv,
         nullspace=nullspace,
+        axes=axes,
+        physical=physical,
     )
+
+
+def _half_turn(phi: float) -> float:
+    """Angle folded into (−π/2, π/2] (an axis direction is defined mod π)."""
+    phi = (phi + math.pi / 2) % math.pi - math.pi / 2
+    return math.pi / 2 if abs(phi + math.pi / 2) < 1e-9 else phi
+
+
+def turning_tree(graph: MechanismGraph) -> list[tuple[str, str]]:
+    """(link, parent) of every moving link, breadth first from the frame over turning pairs."""
+    nbr: dict[str, list[str]] = {x: [] for x in graph.links}
+    for j in graph.joints:
+        nbr[j.link_a].append(j.link_b)
+        nbr[j.link_b].append(j.link_a)
+    seen = {graph.frame}
+    order: list[tuple[str, str]] = []
+    todo = deque([graph.frame])
+    while todo:
+        p = todo.popleft()
+        for x in nbr[p]:
+            if x not in seen:
+                seen.add(x)
+                order.append((x, p))
+                todo.append(x)
+    lost = [x for x in graph.links if x not in seen]
+    if lost:
+        raise KinematicsError(f"links {lost} are not connected to the frame '{graph.frame}' "
+                              "through turning pairs")
+    return order
+
+
+def axis_directions(graph: MechanismGraph, carriers: Sequence[str]) -> dict[str, float]:
+    """Direction φ (rad, folded into (−π/2, π/2]) of every link's own axis: the axis of its
+    turning pair towards the frame (module docstring).
+
+    Each multiple turning pair is one axis; gear pair (a, b) on carrier k ties the axes of a–k
+    and b–k by ``φ_b = φ_a + θ_a − θ_b (mod π)`` (seed 000 eq 2 with real relative speeds).
+    The axis of the first link (in the order of ``links``) turning in the frame is direction
+    0; an axis tied to no other by a gear pair is direction 0 too. A loop of gear pairs whose
+    pitch angles disagree is a :class:`KinematicsError` naming the gear pair.
+    """
+    groups = multi_turning_pairs(graph)
+
+    def group_of(x: str, y: str) -> int:
+        for gi, (_lv, comp) in enumerate(groups):
+            if x in comp and y in comp:
+                return gi
+        raise KinematicsError(f"links '{x}' and '{y}' share no turning-pair axis")
+
+    edges: dict[int, list[tuple[int, float, str]]] = {i: [] for i in range(len(groups))}
+    for mesh, k in zip(graph.meshes, carriers, strict=True):
+        ga, gb = group_of(mesh.link_a, k), group_of(mesh.link_b, k)
+        d = mesh.theta_a - mesh.theta_b
+        edges[ga].append((gb, d, mesh.name))
+        edges[gb].append((ga, -d, mesh.name))
+    on_frame = {j.link_b if j.link_a == graph.frame else j.link_a for j in graph.joints
+                if graph.frame in (j.link_a, j.link_b)}
+    first = [x for x in graph.links if x in on_frame][:1]
+    order = list(dict.fromkeys([*(group_of(x, graph.frame) for x in first),
+                                *(group_of(j.link_a, j.link_b) for j in graph.joints)]))
+    phi: dict[int, float] = {}
+    for start in order:
+        if start in phi:
+            continue
+        phi[start] = 0.0
+        todo = deque([start])
+        while todo:
+            g = todo.popleft()
+            for h, d, name in edges[g]:
+                want = phi[g] + d
+                if h not in phi:
+                    phi[h] = want
+                    todo.append(h)
+                elif abs(math.sin(phi[h] - want)) > 1e-9:
+                    raise KinematicsError(
+                        f"gear pair '{name}': its pitch angles put the axis of level "
+                        f"'{groups[h][0]}' at {math.degrees(_half_turn(want)):.6g}° but other "
+                        f"gear pairs put it at {math.degrees(_half_turn(phi[h])):.6g}° "
+                        "(seed 000 §2.2: θ_a + φ_a = θ_b + φ_b mod 180° in every gear pair); "
+                        "check the pitch angles")
+    axes = {graph.frame: 0.0}
+    for link, parent in turning_tree(graph):
+        axes[link] = _half_turn(phi[group_of(link, parent)])
+    return axes
+
+
+def physical_motions(graph: MechanismGraph, carriers: Sequence[str], m: np.ndarray,
+                     dof: int) -> tuple[dict[str, float], np.ndarray]:
+    """Axis directions and a basis of the physical motions (module docstring).
+
+    Ω = P q̇ with q̇ the real relative speeds of the turning-tree links about their axes; the
+    real solutions of ``M P q̇ = 0`` (real and imaginary parts) are the physical motions. Their
+    number must equal ``dof``; fewer means pitch angles that admit no motion about the axes.
+    """
+    axes = axis_directions(graph, carriers)
+    tree = turning_tree(graph)
+    idx = {x: i for i, x in enumerate(graph.links)}
+    p = np.zeros((len(graph.links), len(tree)), complex)
+    for i, (link, parent) in enumerate(tree):
+        p[idx[link]] = p[idx[parent]]
+        p[idx[link], i] += np.exp(1j * axes[link])
+    rows = m[1:] @ p
+    rows = rows / np.maximum(np.abs(rows).max(axis=1, keepdims=True), 1e-300)
+    real = np.vstack([rows.real, rows.imag])
+    if real.size:
+        _, sv, vh = np.linalg.svd(real)
+        rank = int(np.sum(sv > RANK_RTOL * max(sv[0], 1e-300)))
+    else:
+        rank, vh = 0, np.eye(len(tree))
+    basis = vh[rank:].T
+    if basis.shape[1] != dof:
+        raise KinematicsError(
+            f"mechanism '{graph.name}': the pitch angles admit {basis.shape[1]} motion(s) "
+            f"about the turning-pair axes but rank(M) leaves {dof} degree(s) of freedom "
+            "(seed 000 §2.2): check the pitch angles of the bevel gear pairs")
+    return axes, _clean(p @ basis)

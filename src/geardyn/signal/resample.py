@@ -135,7 +135,8 @@ def link_ratio(analysis, reference: str, target: str) -> float:
         idx = analysis.graph.index(target)
     except (KeyError, ValueError):
         raise InputError(f"target: unknown link {target!r}") from None
-    r = complex(analysis.velocity_ratios([reference])[idx, 0])
+    col = analysis.velocity_ratios([reference])[:, 0]  # per unit speed about ref's own axis
+    r = complex(col[idx] / col[analysis.graph.index(reference)])
     if abs(r.imag) > 1e-12 * max(1.0, abs(r)):
         raise InputError(f"target: {target!r} does not turn about the axis of {reference!r}")
     return float(r.real)

@@ -22,7 +22,6 @@ import itertools
 import json
 import math
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -58,10 +57,17 @@ class RangeSpec(_M):
             raise ValueError(f"stop {self.stop:g} is below start {self.start:g}")
         return self
 
+    def count(self) -> float:
+        """Number of values, computed without listing them (inf when it overflows)."""
+        if self.num is not None:
+            return float(self.num)
+        span = (self.stop - self.start) / self.step * (1 + 1e-12)  # type: ignore[operator]
+        return math.floor(span) + 1.0 if math.isfinite(span) else math.inf
+
     def values(self) -> list[float]:
         if self.num is not None:
             return [float(v) for v in np.linspace(self.start, self.stop, self.num)]
-        n = int(math.floor((self.stop - self.start) / self.step * (1 + 1e-12))) + 1  # type: ignore[operator]
+        n = int(self.count())
         return [float(self.start + i * self.step) for i in range(n)]  # type: ignore[operator]
 
 
@@ -336,6 +342,17 @@ def resolve_axes(spec: SweepSpec, base: dict[str, Any]) -> tuple[Axis, ...]:
     (the validated base config as a dict): the path must exist and scalar values must have the
     base value's type."""
     problems: list[str] = []
+    limit = spec.sweep.max_cases
+    for i, a in enumerate(spec.axes):  # sizes before any value is listed or drawn (issue 20)
+        n = (a.range.count() if a.range is not None
+             else float(a.sample.n) if a.sample is not None else float(len(a.values or [])))
+        if n > limit:
+            what = "range" if a.range is not None else "sample" if a.sample is not None else ""
+            problems.append(f"axes[{i}]{'.' + what if what else ''} (axis '{a.name}'): "
+                            f"{n:.12g} values, above sweep.max_cases = {limit} (every value is "
+                            "at least one case); shrink the axis or raise sweep.max_cases")
+    if problems:
+        raise ConfigError(problems, source="sweep spec")
     groups: dict[str, list[AxisSpec]] = {}
     for a in spec.axes:
         groups.setdefault(a.group or f"axis:{a.name}", []).append(a)
@@ -470,13 +487,21 @@ def validate_cases(sweep: Sweep) -> None:
     """Validate every case's config as a config file (ConfigError naming the axis, its value
     and the case; each distinct problem reported once)."""
     from geardyn.config.loader import parse_config
+    from geardyn.resources import run_problems
 
+    run = sweep.spec.run
     seen: dict[str, str] = {}
     for case in sweep.cases:
         if case.replicate:
             continue
         try:
-            parse_config(sweep.case_config(case))
+            cfg = parse_config(sweep.case_config(case))
+            if run.t_end_s is not None or run.revolutions is not None:
+                problems = run_problems(cfg, None, run.t_end_s, run.revolutions,
+                                        t_end_name="run.t_end_s",
+                                        revolutions_name="run.revolutions")
+                if problems:
+                    raise ConfigError(problems)
         except ConfigError as exc:
             vals = case.labels(sweep.axes)
             for p in exc.problems:
@@ -493,13 +518,15 @@ def validate_cases(sweep: Sweep) -> None:
 def load_spec(path: str | Path, overrides: Mapping[str, Any] | None = None) -> Sweep:
     """Read, validate and expand the sweep spec at ``path`` (TOML). ``overrides``: a mapping
     merged into the spec's tables before validation (e.g. ``{"run": {"t_end_s": 2.0}}``)."""
+    from geardyn.config.loader import check_path_length, read_toml
+
     p = Path(path)
+    check_path_length(p, "sweep spec")
+    if p.is_dir():
+        raise ConfigError(f"sweep spec '{p}' is a directory, expected a TOML file")
     if not p.is_file():
         raise ConfigError(f"sweep spec '{p}' does not exist")
-    try:
-        data = tomllib.loads(p.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", source=str(p)) from None
+    data = read_toml(p, "sweep spec")  # UTF-8, TOML, nesting depth (issue 20)
     return from_dict(data, p.parent, overrides, source=str(p))
 
 
@@ -518,14 +545,28 @@ def from_dict(data: Mapping[str, Any], root: str | Path = ".",
     from geardyn.config.loader import load_config
 
     data = _merge(dict(data), overrides or {})
+    if isinstance(data.get("run"), Mapping):  # "2 s" strings, implausible run lengths
+        from geardyn.config.units import convert_units
+
+        problems: list[str] = []
+        data["run"] = convert_units(data["run"], "run", problems)
+        if problems:
+            raise ConfigError(problems, source=source)
     try:
         spec = SweepSpec.model_validate(data)
     except ValidationError as exc:
         raise _spec_error(exc, data, source) from None
+    from geardyn.config.loader import check_path_length
+
+    check_path_length(Path(root) / spec.sweep.base, "sweep.base")
     base_path = (Path(root) / spec.sweep.base).resolve()
     if not base_path.is_file():
         raise ConfigError(f"sweep.base: config file '{base_path}' does not exist", source=source)
     base_cfg = load_config(base_path)
+    if spec.run.revolutions is not None and base_cfg.transmission is None:
+        raise ConfigError("run.revolutions: sets the run length of the FE transmission model "
+                          "([transmission] speed law); the base config has no [transmission]: "
+                          "use run.t_end_s", source=source)
     base = base_cfg.model_dump(mode="json")
     base_hash = hashlib.sha256(base_path.read_bytes()).hexdigest()
     axes = resolve_axes(spec, base)
@@ -545,7 +586,37 @@ def from_dict(data: Mapping[str, Any], root: str | Path = ".",
                   axes, tuple(cases))
     validate_cases(sweep)
     _check_outputs(sweep, base_cfg)
+    _check_sizes(sweep, base_cfg)
     return sweep
+
+
+def _check_sizes(sweep: Sweep, cfg: Any) -> None:
+    """Resource estimates of the store before any case runs (:mod:`geardyn.resources`): the
+    channel samples and the state grid of every case."""
+    from geardyn.resources import bytes_problem
+
+    out, n = sweep.spec.outputs, len(sweep.cases)
+    problems = []
+    if out.channels.names:
+        p = bytes_problem("outputs.channels.samples", float(out.channels.samples) * n
+                          * len(out.channels.names),
+                          f"{out.channels.samples} samples × {len(out.channels.names)} "
+                          f"channel(s) × {n} cases")
+        if p:
+            problems.append(p)
+    if out.states.variables:
+        sims = [getattr(getattr(cfg, sec, None), "simulation", None)
+                for sec in ("planetary_dynamics", "dynamics")]
+        ends = [sweep.spec.run.t_end_s or s.t_end_s for s in sims if s is not None]
+        t_end = max(ends) if ends else 0.0
+        points = t_end / out.states.step_s + 1
+        p = bytes_problem("outputs.states.step_s", points * n * len(out.states.variables),
+                          f"a {out.states.step_s:g} s grid over {t_end:g} s × "
+                          f"{len(out.states.variables)} variable(s) × {n} cases")
+        if p:
+            problems.append(p)
+    if problems:
+        raise ConfigError(problems, source="sweep spec")
 
 
 def _check_outputs(sweep: Sweep, cfg: Any) -> None:

@@ -30,7 +30,6 @@ the axis of its carrier p (planets; bevel planet pinions).
 from __future__ import annotations
 
 import math
-from collections import deque
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -40,7 +39,12 @@ from geardyn.config.dynamics import Dynamics, MeshDynamics
 from geardyn.errors import ConfigError, KinematicsError
 from geardyn.gears import planet_mesh_phases, square_wave
 from geardyn.kinematics.graph import GearMesh, MechanismGraph
-from geardyn.kinematics.willis import KinematicAnalysis, analyze_graph
+from geardyn.kinematics.willis import (
+    KinematicAnalysis,
+    _half_turn,
+    analyze_graph,
+    turning_tree,
+)
 from geardyn.models.core.assembly import Assembly, RankOne
 from geardyn.models.core.blanks import Blank, contact_ratio, disc_blank, wheel_blank
 from geardyn.models.core.fe_shafts import add_shaft_nodes, inner_node_count, stamp_fe_shaft
@@ -74,82 +78,39 @@ class PairSize:
 
 
 def physical_basis(kin: KinematicAnalysis, inputs: Sequence[str] | None = None) -> np.ndarray:
-    """Velocity-ratio matrix Ω0 (links × dof) of physical motions (seed 000 eq 5).
+    """A basis (links × dof, complex) of the physical motions (seed 000 eq 5).
 
-    A complex nullspace basis carries an arbitrary phase per column; normalising to input links
-    (ω = 1 along their axis) fixes it. ``inputs`` default: the config's input links when they
-    fix the motion, else links turning in the frame chosen greedily.
+    The physical motions are the real rotations about the turning-pair axes allowed by every
+    Willis row (:attr:`KinematicAnalysis.physical`); they do not depend on which links are
+    inputs. ``inputs`` (when they fix the motion) only normalises the basis: column c is the
+    motion with input c at unit speed about its own axis; the model built on either basis is
+    the same.
     """
     if kin.dof == 0:
         return np.zeros((len(kin.links), 0), complex)
     if inputs is not None and len(inputs) == kin.dof:
         return kin.velocity_ratios(list(inputs))
-    g = kin.graph
-    cands = [j.link_b if j.link_a == g.frame else j.link_a for j in g.joints
-             if g.frame in (j.link_a, j.link_b)]
-    chosen: list[str] = []
-    for c in dict.fromkeys(cands):
-        rows = kin.nullspace[[g.index(x) for x in [*chosen, c]], :]
-        if np.linalg.matrix_rank(rows, tol=1e-9) == len(chosen) + 1:
-            chosen.append(c)
-        if len(chosen) == kin.dof:
-            return kin.velocity_ratios(chosen)
-    raise KinematicsError(
-        f"mechanism '{g.name}': {kin.dof} degree(s) of freedom but only {len(chosen)} "
-        "independent links turn in the frame; give input_speeds_rpm"
-    )
+    return kin.physical
 
 
-def turning_tree(graph: MechanismGraph) -> list[tuple[str, str]]:
-    """(link, parent) of every moving link, breadth first from the frame."""
-    nbr: dict[str, list[str]] = {x: [] for x in graph.links}
-    for j in graph.joints:
-        nbr[j.link_a].append(j.link_b)
-        nbr[j.link_b].append(j.link_a)
-    seen = {graph.frame}
-    order: list[tuple[str, str]] = []
-    todo = deque([graph.frame])
-    while todo:
-        p = todo.popleft()
-        for x in nbr[p]:
-            if x not in seen:
-                seen.add(x)
-                order.append((x, p))
-                todo.append(x)
-    lost = [x for x in graph.links if x not in seen]
-    if lost:
-        raise KinematicsError(f"links {lost} are not connected to the frame '{graph.frame}' "
-                              "through turning pairs")
-    return order
-
-
-def _half_turn(phi: float) -> float:
-    """Angle folded into (−π/2, π/2] (an axis direction is defined mod π)."""
-    phi = (phi + math.pi / 2) % math.pi - math.pi / 2
-    return math.pi / 2 if abs(phi + math.pi / 2) < 1e-12 else phi
-
-
-def axis_directions(tree: list[tuple[str, str]], omega0: np.ndarray, graph: MechanismGraph
-                    ) -> dict[str, float]:
-    """Direction φ (rad, sketch plane) of each link's turning-pair axis from Ω0."""
-    idx = {x: i for i, x in enumerate(graph.links)}
-    phi: dict[str, float] = {graph.frame: 0.0}
+def axis_directions(tree: list[tuple[str, str]], kin: KinematicAnalysis) -> dict[str, float]:
+    """Direction φ (rad, sketch plane) of each link's turning-pair axis, from the pitch angles
+    (:func:`geardyn.kinematics.willis.axis_directions`), checked against the motions: the
+    relative angular velocity of a link in its parent must lie along that axis."""
+    idx = {x: i for i, x in enumerate(kin.links)}
+    omega0 = kin.physical
     scale = max(float(np.abs(omega0).max()) if omega0.size else 1.0, 1.0)
     for link, parent in tree:
         rel = omega0[idx[link]] - omega0[idx[parent]]
         if rel.size == 0 or np.abs(rel).max() <= _TOL * scale:
-            phi[link] = phi[parent]  # no relative motion: coaxial with its parent by default
             continue
-        j = int(np.argmax(np.abs(rel)))
-        f = _half_turn(float(np.angle(rel[j])))
-        off = np.abs((rel * np.exp(-1j * f)).imag).max()
+        off = np.abs((rel * np.exp(-1j * kin.axes[link])).imag).max()
         if off > 1e-7 * np.abs(rel).max():
             raise KinematicsError(
                 f"link '{link}' turning in '{parent}': its relative angular velocity is not "
                 f"along one axis in every motion (off-axis part {off:.3g}); check the pitch "
                 "angles of its gears (seed 000 §2.2)")
-        phi[link] = f
-    return phi
+    return dict(kin.axes)
 
 
 def velocity_map(tree: list[tuple[str, str]], phi: Mapping[str, float], graph: MechanismGraph,
@@ -316,7 +277,7 @@ def build_model(graph: MechanismGraph, spec: Dynamics, inputs: Sequence[str] | N
     kin = analyze_graph(graph)
     omega0 = physical_basis(kin, inputs)
     tree = turning_tree(graph)
-    phi = axis_directions(tree, omega0, graph)
+    phi = axis_directions(tree, kin)
     n_links = len(tree)
     rotors = list(spec.rotors)
     layout = (lateral_layout(tree, phi, graph, n_links + len(rotors)) if spec.lateral
