@@ -257,6 +257,19 @@ def test_detected_but_unlocalised_is_uncertain_never_healthy():
     assert v.localisation["state"] == "uncertain"
 
 
+def test_a_location_needs_evidence_above_its_threshold():
+    """The largest posterior is not enough: evidence below its own threshold (a null spread
+    too wide for the stated false-alarm probability) leaves the location uncertain."""
+    v = _verdict({"a": ("wheel", 3.0), "b": ("wheel", 0.5)})
+    ev = {"a": _ev("a", "cSDR", 1.5, 6.0), "b": _ev("b", "cSDR", 1.0, 0.0)}
+    _run(v, ev, _items({"a": (1.0, None), "b": (2.0, None)}))
+    assert v.localisation["state"] == "uncertain" and v.state == "uncertain"
+    v2 = _verdict({"a": ("wheel", 3.0), "b": ("wheel", 0.5)})
+    _run(v2, {"a": _ev("a", "cSDR", 2.5, 6.0), "b": _ev("b", "cSDR", 1.0, 0.0)},
+         _items({"a": (1.0, None), "b": (2.0, None)}))
+    assert v2.location == ["a"]
+
+
 def test_a_bearing_outweighs_the_wheels_of_its_shaft():
     """Detection alarms on a bearing and both wheels of its shaft; the bearing's fault-band
     energy is far out of its null, the wheels' coherent SDR of their own meshes is not: the

@@ -105,7 +105,8 @@ def test_runner_on_a_small_configuration(examples_dir, tmp_path):
          RecordSpec("sun crack 30 %", "sun crack", 0.3,
                     {path: [{"kind": "crack", "gear": "sun", "crack_fraction": 0.3}]}, 100)),
         {"sensor": "ring 0°"})
-    rows = run_configuration(conf)
+    out = tmp_path / "out"
+    rows = run_configuration(conf, out / "cases" / "t-00.pkl")
     assert [r["status"] for r in rows] == ["ok", "ok"], rows
     healthy, crack = rows
     assert healthy["fault_type"] == "healthy" and healthy["snr"] == 0.0
@@ -115,9 +116,14 @@ def test_runner_on_a_small_configuration(examples_dir, tmp_path):
         assert r["verdict"] in ("alarm", "uncertain", "healthy")
         assert r["tests"] > 0 and 0 < r["alpha_per_test"] < 0.01
         assert not (r["detected"] and r["verdict"] == "healthy")
-    # rows are stored as JSON, readable back
-    from geardyn.studies.runner import _write_rows
+    # rows are stored as JSON, readable back; judged again from the cache, the same rows
+    from geardyn.studies.runner import _write_rows, rejudge
 
-    (tmp_path / "out" / "rows").mkdir(parents=True)
-    _write_rows(tmp_path / "out" / "rows" / "t-00.json", rows)
-    assert read_rows(tmp_path / "out")[1]["record"] == "sun crack 30 %"
+    (out / "rows").mkdir(parents=True)
+    _write_rows(out / "rows" / "t-00.json", rows)
+    assert read_rows(out)[1]["record"] == "sun crack 30 %"
+    assert rejudge(out) == 1
+    again = read_rows(out)
+    for a, b in zip(rows, again, strict=True):
+        assert {k: a[k] for k in ("verdict", "location", "tests", "first_alarm")} == \
+               {k: b[k] for k in ("verdict", "location", "tests", "first_alarm")}

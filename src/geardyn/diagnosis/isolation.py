@@ -175,6 +175,20 @@ class IsolationBlocks:
     run: object = None
     """The dynamic run this record was measured on (baseline ensemble members measured on one
     run share it: a leave-one-out null leaves the whole run out)."""
+    stats: dict[str, OrderStats] = field(default_factory=dict)
+    """Per-order statistics of domains whose rows were dropped (:meth:`compact`)."""
+
+    def compact(self) -> IsolationBlocks:
+        """A copy holding the per-order statistics of every own-angle and TE domain instead
+        of their revolutions (all the evidence needs; a few per cent of the size), the
+        planet-separated rows kept (their statistics depend on the rows shared by every
+        record)."""
+        keep = set(self.of_planet.values())
+        stats = {**self.stats, **{k: order_stats(v, self.top.get(k))
+                                  for k, v in self.domains.items()
+                                  if k not in keep and v.shape[0] >= 2}}
+        return replace(self, domains={k: v for k, v in self.domains.items() if k in keep},
+                       stats=stats)
 
 
 def _uniform(x: np.ndarray, time: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -600,8 +614,10 @@ def coherent_evidence(component: str, measure: str, record: OrderStats,
 
 def domain_stats(blocks: IsolationBlocks) -> dict[str, OrderStats]:
     """:class:`OrderStats` of every domain of ``blocks`` with at least 2 revolutions."""
-    return {k: order_stats(v, blocks.top.get(k)) for k, v in blocks.domains.items()
-            if v.shape[0] >= 2}
+    out = dict(getattr(blocks, "stats", None) or {})
+    out.update({k: order_stats(v, blocks.top.get(k)) for k, v in blocks.domains.items()
+                if v.shape[0] >= 2})
+    return out
 
 
 def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,

@@ -168,15 +168,19 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
         toothed = [m for m in members if kind.get(m) in TOOTHED]
         return toothed or members
 
+    def passes(g: str) -> bool:  # a location needs evidence above its own threshold
+        return any(top_ev[m].passed or (m in planet_ev and planet_ev[m].passed)
+                   for m in groups[g])
+
     level = "component"
     if post and any(math.isfinite(z) for z in scores.values()):
         best = max(post, key=post.get)
         cand = _credible(post, confidence)
-        loc: list[str] = located(best) if post[best] >= confidence else []
+        loc: list[str] = located(best) if post[best] >= confidence and passes(best) else []
         conf = post[best] if loc else None
         if not loc:
             names = [m for g in cand for m in located(g)]
-            if names and _one_planet_set(names, info, kind):
+            if names and _one_planet_set(names, info, kind) and all(passes(g) for g in cand):
                 loc, conf = names, sum(post[g] for g in cand)
         if loc and len(loc) > 1 and _one_planet_set(loc, info, kind):
             level = "planet set"

@@ -12,7 +12,8 @@ records (seeds 100, 101) and nine faulty ones (three fault kinds × three sizes,
 planetary machines a tooth crack of 10, 20, 30 % of the tooth thickness on the sun, the ring
 or one planet (drawn per configuration); the FE transmission an outer-race spall on the output
 ball bearing in its load zone (5°, 10.9°, 20° long, 100 µm deep), a spall on tooth 1 of the
-55-tooth wheel (25, 50, 100 µm deep) and a root crack on its tooth 0 (0.5, 1, 2 mm).
+55-tooth wheel (100 µm deep, 3.1, 6.25, 12.5 mm of the 25 mm face: deeper spalls
+than the contact's approach all lose contact alike) and a root crack on its tooth 0 (0.5, 1, 2 mm).
 
 **Halves.** Before anything runs, the configurations of each machine are permuted with the
 study seed and split in two: the *tune* half (looked at while developing) and the *report* half
@@ -54,7 +55,7 @@ CONFIGURATIONS = {"planetary 3 planets": 10, "planetary 4 planets": 8, "FE trans
 CRACK_FRACTIONS = (0.1, 0.2, 0.3)
 #: FE transmission fault sizes (seed 002 §4.3 and §3.5.2 sizes at the middle).
 BEARING_SPALL_DEG = (5.0, 10.909, 20.0)
-TOOTH_SPALL_M = (25e-6, 50e-6, 100e-6)
+TOOTH_SPALL_LENGTH_M = (3.125e-3, 6.25e-3, 12.5e-3)
 TOOTH_CRACK_M = (0.5e-3, 1.0e-3, 2.0e-3)
 
 _ROOT = Path(__file__).resolve().parents[3]
@@ -84,13 +85,13 @@ def _fe_records(bearing: int, pair: int) -> tuple[RecordSpec, ...]:
             f"outer-race spall {deg:.3g}°", "bearing outer-race spall", deg,
             {f"transmission.bearings[{bearing}].outer_spall":
              {"angle_deg": 110.0, "angular_length_deg": deg, "depth_m": 100e-6}}, FAULT_SEED))
-    for d in TOOTH_SPALL_M:
+    for length in TOOTH_SPALL_LENGTH_M:
         recs.append(RecordSpec(
-            f"tooth spall {d * 1e6:.0f} µm", "tooth spall", d,
+            f"tooth spall {length * 1e3:.3g} mm", "tooth spall", length,
             {f"gear_geometry[{pair}].spalls": [
                 {"gear": "b", "tooth": 1, "radius_m": 0.0825, "radial_width_m": 0.0029,
-                 "depth_m": d, "axial_position_m": 0.0125, "axial_length_m": 0.0125}]},
-            FAULT_SEED))
+                 "depth_m": 100e-6, "axial_position_m": 0.0125,
+                 "axial_length_m": length}]}, FAULT_SEED))
     for d in TOOTH_CRACK_M:
         recs.append(RecordSpec(
             f"tooth crack {d * 1e3:.1f} mm", "tooth crack", d,
@@ -313,7 +314,7 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
         f"| planetary 4 planets (21/31/83) | {CONFIGURATIONS['planetary 4 planets']} | "
         "2 healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, one planet |",
         f"| FE transmission (seed 002) | {CONFIGURATIONS['FE transmission']} | 2 healthy + 9 "
-        "faulty | outer-race spall 5/10.9/20°; tooth spall 25/50/100 µm; root crack "
+        "faulty | outer-race spall 5/10.9/20°; tooth spall 3.1/6.25/12.5 mm long; root crack "
         "0.5/1/2 mm |",
         "",
         "Drawn per configuration (uniform): speed × [0.8, 1.2], load × [0.6, 1.2], sensor "
@@ -376,14 +377,21 @@ def main(argv: Sequence[str] | None = None) -> int:
                     "LocalCluster)")
     ap.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes")
     ap.add_argument("--only", default=None, help="comma-separated configuration ids to run")
+    ap.add_argument("--rejudge", action="store_true", help="judge the stored records again "
+                    "with the current code (no simulation), then write the page")
     args = ap.parse_args(argv)
     confs = sorted(design(), key=lambda c: (int(c.id.split("-")[1]), c.machine))  # interleaved
     if args.only:
         keep = set(args.only.split(","))
         confs = [c for c in confs if c.id in keep]
     t0 = time.time()
-    run_study(confs, args.out, scheduler=args.scheduler, workers=args.workers,
-              progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True))
+    if args.rejudge:
+        from geardyn.studies.runner import rejudge
+
+        print(f"judged again: {rejudge(args.out)} configurations")
+    else:
+        run_study(confs, args.out, scheduler=args.scheduler, workers=args.workers,
+                  progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True))
     rows = pd.DataFrame(read_rows(args.out))
     if args.docs and len(rows):
         docs = Path(args.docs)

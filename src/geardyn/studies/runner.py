@@ -110,10 +110,14 @@ def _noise_rms(cfg: Any, channel: str) -> float:  # noqa: ANN401
     return math.nan
 
 
-def run_configuration(conf: Configuration) -> list[dict[str, Any]]:
+def run_configuration(conf: Configuration, cases: str | Path | None = None
+                      ) -> list[dict[str, Any]]:
     """Rows (one per record of ``conf``) of the verdicts against the configuration's baseline
     ensemble; a record whose run or judgement fails gets ``status`` ``failed: …`` (never
-    dropped)."""
+    dropped). With ``cases`` (a file path) the inputs of every verdict — the baseline's and
+    the records' features and per-order statistics — are pickled there, so that
+    :func:`rejudge` can judge them again without simulating (a cache the study writes and
+    reads itself)."""
     from geardyn.config.loader import parse_config
     from geardyn.diagnosis import pipeline as pipe
     from geardyn.diagnosis.ensemble import simulate_baseline
@@ -129,12 +133,13 @@ def run_configuration(conf: Configuration) -> list[dict[str, Any]]:
         pipe._check_status(ds, f"healthy baseline {member.label}")
         ch = pipe._channel(ds, opts.channel, "healthy baseline")
         feats.append(pipe._features(ds, healthy, ch, opts))
-        blocks.append(pipe._blocks(ds, healthy, ch, opts))
+        blocks.append(pipe._blocks(ds, healthy, ch, opts).compact())
         blocks[-1].run = member.run
         del ds
     t_base = time.process_time() - t0
     paired: dict[int, np.ndarray] = {}
     rows = []
+    judged: list[tuple[dict[str, Any], Any, Any]] = []
     for rec in sorted(conf.records, key=lambda r: r.fault_type != "healthy"):
         row: dict[str, Any] = {"config": conf.id, "machine": conf.machine, "half": conf.half,
                                "record": rec.label, "fault_type": rec.fault_type,
@@ -161,16 +166,63 @@ def run_configuration(conf: Configuration) -> list[dict[str, Any]]:
                 snr = (float(np.mean((x - h) ** 2)) / noise**2
                        if h is not None and h.shape == x.shape and noise > 0 else math.nan)
             feat = pipe._features(ds, cfg, ch, opts)
-            rb = pipe._blocks(ds, cfg, ch, opts)
+            rb = pipe._blocks(ds, cfg, ch, opts).compact()
             del ds
             verdict = pipe.judge_features(cfg, opts, feats, feat, baseline_blocks=blocks,
-                                       record_blocks=rb, expected=fault_list(cfg))
+                                          record_blocks=rb, expected=fault_list(cfg))
             row.update(_verdict_row(verdict), snr=snr, status="ok")
+            judged.append((dict(row), feat, rb))
         except (GeardynError, ValueError, FloatingPointError) as exc:
             row.update(status=f"failed: {exc}")
         row["record_cpu_s"] = time.process_time() - t1
         rows.append(row)
+    if cases is not None:
+        _write_pickle(Path(cases), {"configuration": conf, "baseline": feats,
+                                    "blocks": blocks, "records": judged})
     return rows
+
+
+def _write_pickle(path: Path, obj: Any) -> None:  # noqa: ANN401
+    import pickle
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    with tmp.open("wb") as fh:
+        pickle.dump(obj, fh, protocol=pickle.HIGHEST_PROTOCOL)
+    os.replace(tmp, path)
+
+
+def rejudge(out: str | Path) -> int:
+    """Judge again every stored record of the study in ``out`` with the current code (its
+    cached features and per-order statistics, no simulation) and rewrite the rows; returns
+    the configurations judged again. Rows of failed records are kept as they are."""
+    import pickle
+
+    from geardyn.config.loader import parse_config
+    from geardyn.diagnosis import pipeline as pipe
+    from geardyn.diagnosis.faults import fault_list
+
+    n = 0
+    for path in sorted((Path(out) / "cases").glob("*.pkl")):
+        with path.open("rb") as fh:
+            case = pickle.load(fh)  # noqa: S301 - the study's own cache
+        conf = case["configuration"]
+        healthy = healthy_configuration(conf)
+        opts = pipe.options(healthy)
+        new = {}
+        for row, feat, rb in case["records"]:
+            rec = next(r for r in conf.records if r.label == row["record"]
+                       and r.seed == row["seed"])
+            cfg = parse_config(_apply(healthy.model_dump(), rec.update))
+            verdict = pipe.judge_features(cfg, opts, case["baseline"], feat,
+                                          baseline_blocks=case["blocks"], record_blocks=rb,
+                                          expected=fault_list(cfg))
+            new[(row["record"], row["seed"])] = {**row, **_verdict_row(verdict)}
+        rows_path = Path(out) / "rows" / f"{conf.id}.json"
+        old = json.loads(rows_path.read_text()) if rows_path.exists() else []
+        _write_rows(rows_path, [new.get((r["record"], r.get("seed")), r) for r in old])
+        n += 1
+    return n
 
 
 def _verdict_row(verdict: Any) -> dict[str, Any]:  # noqa: ANN401 - a Verdict
@@ -254,8 +306,8 @@ def run_study(configurations: Iterable[Configuration], out: str | Path, *,
                                dashboard_address=None)
         client = Client(cluster)
     try:
-        futures = {client.submit(run_configuration, c, pure=False, key=f"study-{c.id}"): c
-                   for c in todo}
+        futures = {client.submit(run_configuration, c, out / "cases" / f"{c.id}.pkl",
+                                 pure=False, key=f"study-{c.id}"): c for c in todo}
         for n, fut in enumerate(as_completed(futures), 1):
             c = futures[fut]
             try:
