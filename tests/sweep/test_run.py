@@ -1,5 +1,7 @@
 """Sweeps on dask.distributed: 1 vs 2 workers, resume after Ctrl-C to the driver and after
-kill -9 of a worker, verdicts, the CLI. A tiny case: the seed 004 gearbox for 2 s."""
+kill -9 of a worker, verdicts, the CLI. A small case: the seed 004 gearbox for 8 s (4.3
+revolutions of the sun shaft: enough for its verdict; the carrier, ring and planets turn less
+than 4 times and are not judged)."""
 
 from __future__ import annotations
 
@@ -30,7 +32,7 @@ seed = 11
 replicates = 3
 
 [run]
-t_end_s = 2.0
+t_end_s = 8.0
 
 [[axes]]
 name = "crack_fraction"
@@ -115,8 +117,11 @@ def test_reference_store(reference: Path) -> None:
     assert list(ds["crack_fraction"].values) == [0.0] * 3 + [0.3] * 3
     assert ds["channels.ring_acc"].shape == (6, 600)
     assert ds["state.speed"].dims == ("case", "state_time", "shaft")
-    assert ds["state_time"].values[-1] == pytest.approx(2.0)
-    assert np.isfinite(ds["indicators"].sel(component="sun")).all()
+    assert ds["state_time"].values[-1] == pytest.approx(8.0)
+    assert (ds["channels.ring_acc.length"] == 600).all()
+    finite = np.isfinite(ds["indicators"].sel(component="sun").isel(block=0)).sum("indicator")
+    assert (finite >= 3).all()
+    assert ds["checksum"].values[0].startswith("sha256:")
     assert ds.attrs["geardyn_version"] and len(ds.attrs["base_config_sha256"]) == 64
     # replicates differ by their seed only (sensor noise), not by their physics
     acc = ds["channels.ring_acc"].values
@@ -137,7 +142,7 @@ def test_case_is_reproducible_alone(reference: Path, spec_path: Path) -> None:
     sw = load_spec(spec_path)
     case = sw.cases[4]
     assert int(ds["seed"][4]) == case.seed
-    res = run_simulation(parse_config(sw.case_config(case)), seed=case.seed, t_end_s=2.0)
+    res = run_simulation(parse_config(sw.case_config(case)), seed=case.seed, t_end_s=8.0)
     ch = channel(res, "ring_acc")
     values, _ = _decimated(ch.values, ch.time, 4, ch.sampling)
     np.testing.assert_array_equal(ds["channels.ring_acc"].values[4], values[-600:])
@@ -253,6 +258,8 @@ def test_verdicts_against_hand_thresholds(reference: Path) -> None:
 
     ds = open_dataset(reference).load()
     v = ds["indicators"].sel(component="sun").isel(block=0).values  # (case, indicator)
+    v = v[:, np.isfinite(v).all(axis=0)]  # the indicators computed for a shaft
+    assert v.shape[1] >= 3
     healthy = np.flatnonzero(ds["crack_fraction"].values == 0.0)
     for i in range(6):
         base = v[[j for j in healthy if j != i]]
@@ -262,8 +269,18 @@ def test_verdicts_against_hand_thresholds(reference: Path) -> None:
         th = mu + 3.0 * np.maximum(cn * s, 0.05 * np.abs(mu))
         margin = float(np.max(v[i] / th))
         assert float(ds["margin"].sel(component="sun")[i]) == pytest.approx(margin, rel=1e-12)
-        state = "alarm" if margin > 1 else "healthy"
+        # no isolation evidence for a shaft in a sweep: a detection is 'uncertain', never
+        # 'healthy' (and never 'alarm' = localised)
+        state = "uncertain" if margin > 1 else "healthy"
         assert ds["verdict"].sel(component="sun").values[i] == state
+        assert ds["verdict_state"].values[i] == state
+        assert ds["location"].values[i] == ""
+    # components with fewer than 4 whole own revolutions are not judged (issue 18 part 7)
+    assert (ds["revolutions"].sel(component="carrier") < 4).all()
+    assert (ds["revolutions"].sel(component="sun") >= 4).all()
+    assert set(ds["verdict"].sel(component="carrier").values) == {"unknown"}
+    assert all("too short" in n and "carrier" in n for n in ds["verdict_note"].values)
+    assert ds["location_confidence"].attrs["units"] == "1"
 
 
 def test_cli_bad_spec_and_check(tmp_path: Path, spec_path: Path) -> None:
@@ -317,7 +334,10 @@ def test_example_spec_runs_a_subset(tmp_path: Path) -> None:
     ds = open_dataset(out).load()
     assert list(ds["status"].values[[0, 6]]) == ["ok", "ok"]
     assert (ds["status"].values == "").sum() == 58  # the others stay pending
-    assert ds["verdict"].sel(component="sun").values[6] in ("alarm", "healthy")
+    # 2 s runs: 1.1 sun revolutions, too short to judge (issue 18 part 7): marked, not judged
+    assert ds["verdict"].sel(component="sun").values[6] == "unknown"
+    assert ds["verdict_state"].values[6] == "unknown"
+    assert "too short" in ds["verdict_note"].values[6]
     table = detectability(ds, "sun", "NA4", "crack_fraction", by=["fault_gear"],
                           healthy={"fault_gear": "none"})
     assert list(table["crack_fraction"]) == [0.0, 0.1] and list(table["n"]) == [1, 1]

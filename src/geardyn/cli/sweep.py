@@ -1,7 +1,9 @@
 """``geardyn sweep SPEC.toml --out DATASET.zarr``: run a parameter sweep on dask.distributed
-into one Zarr store (docs/sweeps.md). Re-running the same command resumes: finished cases are
-skipped. Exit code 0 when every case ran (whatever its status), 2 on a bad spec, 130 on
-Ctrl-C (the store keeps every finished case)."""
+into one Zarr store (docs/sweeps.md). Re-running the same command resumes: finished cases whose
+data match their checksums are skipped, damaged ones run again. Exit codes: 0 every case
+stored and none ``failed``; 1 some case ``failed`` (the count is printed) or, with
+``--verify``, some case damaged; 2 a bad spec or option, a failing run-time check, or a store
+in use by another driver; 130 Ctrl-C (the store keeps every finished case)."""
 
 from __future__ import annotations
 
@@ -38,7 +40,10 @@ def sweep_cmd(
     retry_failed: bool = typer.Option(False, "--retry-failed",
                                       help="run the cases stored as 'failed' again"),
     check: bool = typer.Option(False, "--check", help="validate the spec and every case, "
-                               "print the case count, run nothing"),
+                               "run the run-time checks (time step, channel kinds, run length "
+                               "against the diagnosis statistics), run nothing"),
+    verify: bool = typer.Option(False, "--verify", help="check every stored case against its "
+                                "checksum, name the damaged ones, run nothing"),
 ) -> None:
     """Run every case of a sweep spec (axes over config paths) and store channels,
     indicators, states and verdicts per case in one Zarr data set."""
@@ -62,8 +67,11 @@ def sweep_cmd(
     console.print(f"sweep {sweep.spec.sweep.name or spec.name}: {len(sweep.cases)} cases "
                   f"[{axes}; {sweep.spec.sweep.combine}, {sweep.spec.sweep.replicates} "
                   "replicate(s)]", highlight=False)
+    if verify:
+        _verify(out, sweep)
+        return
     if check:
-        console.print("spec and every case are valid; nothing run (--check)")
+        _check(sweep)
         return
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[rate]}"),
                   TimeElapsedColumn(), console=console, transient=True) as prog:
@@ -86,10 +94,56 @@ def sweep_cmd(
                 console.print(f"{out}: {n} of {len(sweep.cases)} cases stored; run the same "
                               "command again to finish the sweep", highlight=False)
             raise
-    from geardyn.sweep import open_dataset
+    from geardyn.sweep.store import statuses
 
-    status = open_dataset(out)["status"].values
+    status = statuses(out)
     counts = {s: int((status == s).sum()) for s in sorted(set(status)) if s}
+    for i, why in sorted(summary.damaged.items()):
+        console.print(f"case {i} was damaged ({why}): run again", highlight=False)
     console.print(f"wrote {out}: {summary.run} case(s) run now, {summary.skipped} already "
                   f"stored, {summary.wall_s:.1f} s; status "
                   + ", ".join(f"{k} {v}" for k, v in counts.items()), highlight=False)
+    if summary.failed_total:
+        console.print(f"{summary.failed_total} of {summary.total} case(s) failed (see the "
+                      "store's 'message'); --retry-failed runs them again", highlight=False)
+        raise typer.Exit(1)
+
+
+def _check(sweep) -> None:  # noqa: ANN001 - Sweep
+    """Run-time checks of every case (ConfigError → exit 2) and cases too short to judge."""
+    from geardyn.sweep.layout import plan, short_cases
+    from geardyn.sweep.verdicts import MIN_OWN_REVOLUTIONS
+
+    layout = plan(sweep)
+    for note in layout.notes:
+        console.print(f"warning: {note}", highlight=False)
+    short = short_cases(sweep, MIN_OWN_REVOLUTIONS)
+    if short:
+        first = short[0]
+        comps = ", ".join(f"{c} {r:.2g}" for c, r in list(first.components.items())[:6])
+        console.print(
+            f"warning: {len(short)} distinct case config(s) give some components fewer than "
+            f"{MIN_OWN_REVOLUTIONS} whole own revolutions in the analysed record (run length "
+            f"− skip_s, nominal speed), e.g. case {first.index}: {comps}; their verdicts will "
+            "be 'unknown' (lengthen run.t_end_s)", highlight=False)
+    console.print("spec, every case and the run-time checks are valid; nothing run (--check)")
+
+
+def _verify(out: Path, sweep) -> None:  # noqa: ANN001 - Sweep
+    from geardyn.errors import InputError
+    from geardyn.sweep.store import PENDING, check_same_sweep, statuses, verify
+
+    if not out.exists():
+        raise InputError(f"--out: store '{out}' does not exist (nothing to verify)")
+    check_same_sweep(out, sweep)
+    damaged = verify(out)
+    status = statuses(out)
+    done = int((status != PENDING).sum())
+    for i, why in sorted(damaged.items()):
+        console.print(f"case {i}: {why}", highlight=False)
+    if damaged:
+        console.print(f"{len(damaged)} of {done} stored case(s) damaged: run the same command "
+                      "without --verify to run them again", highlight=False)
+        raise typer.Exit(1)
+    console.print(f"{out}: {done} stored case(s) match their checksums "
+                  f"({len(status) - done} pending)", highlight=False)

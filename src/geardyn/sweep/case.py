@@ -40,7 +40,10 @@ def _channel(ds: Any, name: str, every: int, samples: int) -> dict[str, Any]:
     vals, t = _decimated(np.asarray(ch.values, float), np.asarray(ch.time, float), every,
                          ch.sampling)
     dims = [f"{name}.sample"]
-    out = {f"channels.{name}": (vals[-samples:], {"units": ch.units, "long_name": name,
+    kept = min(vals.size, samples)
+    out = {f"channels.{name}.length": (np.array(float(kept)), {}, [], {}),
+           f"channels.{name}.samples_computed": (np.array(float(vals.size)), {}, [], {}),
+           f"channels.{name}": (vals[-samples:], {"units": ch.units, "long_name": name,
                                                    "sensor_kind": ch.kind,
                                                    "sampling": ch.sampling, "shaft": ch.shaft},
                                 dims, {}),
@@ -89,8 +92,9 @@ def _indicators(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
     o = options(cfg, channel=opts.get("channel"), skip_s=opts.get("skip_s"),
                 blocks=opts.get("blocks"))
     ch = channel(ds, o.channel).name if o.channel else channels(ds)[0]
-    table = features_from_result(ds, cfg, ch, reference=o.reference, skip_s=o.skip_s,
-                                 n_blocks=o.blocks).table
+    feats = features_from_result(ds, cfg, ch, reference=o.reference, skip_s=o.skip_s,
+                                 n_blocks=o.blocks)
+    table = feats.table
     comps = list(dict.fromkeys(str(c) for c in table["component"]))
     inds = list(dict.fromkeys(str(c) for c in table["indicator"]))
     arr = np.full((len(comps), len(inds), o.blocks), np.nan)
@@ -101,12 +105,46 @@ def _indicators(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
         if int(b) < o.blocks:
             arr[ci[str(c)], ii[str(i)], int(b)] = float(v)
     kinds = dict(zip(table["component"].astype(str), table["kind"].astype(str), strict=False))
-    return {"indicators": (arr, {"units": "1", "long_name": f"condition indicators of channel "
+    return {**_judgeable(feats), "indicators": (arr, {"units": "1", "long_name": f"condition indicators of channel "
                                 f"{ch} per block", "channel": ch},
                           ["component", "indicator", "block"],
                           {"component": comps, "indicator": inds,
                            "block": list(range(o.blocks))}),
             "_kinds": kinds}
+
+
+def _judgeable(feats: Any) -> dict[str, Any]:
+    """Whole own revolutions of every rotating component in the analysed record (0: left out
+    for less than one; the TSA attribute ``revolutions``) and the fault-band energy share of
+    every bearing line in the squared-envelope spectrum (:func:`geardyn.diagnosis.isolation.
+    band_energy_share`, the bearings' isolation evidence), per component."""
+    from geardyn.diagnosis.components import BEARING_LINES
+    from geardyn.diagnosis.isolation import ROTATING, band_energy_share
+
+    comps = feats.components
+    if comps is None:
+        return {}
+    names = [c.name for c in comps.items]
+    revs = np.full(len(names), np.nan)
+    for k, c in enumerate(comps.items):
+        if c.kind in ROTATING:
+            t = feats.tsa.get(c.name)
+            revs[k] = float(t.attrs.get("revolutions", 0)) if t is not None else 0.0
+    out: dict[str, Any] = {"revolutions": (revs, {}, ["component"], {"component": names})}
+    spec = feats.envelope_spectrum
+    lines = list(BEARING_LINES)
+    if spec is not None and comps.bearings:
+        o = np.asarray(spec["order"].values, float)
+        s = np.asarray(spec.values, float)
+        share = np.full((len(comps.bearings), len(lines)), np.nan)
+        for k, c in enumerate(comps.bearings):
+            for line, f in c.fault_orders.items():
+                if line in lines:
+                    share[k, lines.index(line)] = band_energy_share(o, s, f)
+        out["band_energy"] = (share, {}, ["component", "bearing_line"],
+                              {"component": [c.name for c in comps.bearings],
+                               "bearing_line": lines})
+    return out
 
 
 def run_case(task: dict[str, Any]) -> dict[str, Any]:

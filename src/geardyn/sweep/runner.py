@@ -1,8 +1,10 @@
 """Run a sweep on ``dask.distributed``: a LocalCluster (one single-threaded worker process per
 core, each under a nanny) or an existing cluster, results written by the driver as cases end.
 
-Resume: cases whose ``status`` is set in the store are skipped, so re-running the command after
-an interruption (Ctrl-C, a killed driver) finishes the sweep; a worker killed mid-case is
+One driver per store (:mod:`geardyn.sweep.lock`). Resume: cases whose ``status`` is set in the
+store and whose data match their checksum are skipped (damaged ones run again; ``failed`` ones
+only with ``retry_failed``), so re-running the command after an interruption (Ctrl-C, a killed
+driver) finishes the sweep; a worker killed mid-case is
 restarted by its nanny and the scheduler runs the case again (up to
 ``distributed.scheduler.allowed-failures`` times, then the case is recorded ``failed``).
 """
@@ -16,7 +18,7 @@ import signal
 import time
 import uuid
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +26,7 @@ import xarray as xr
 
 from geardyn.errors import InputError
 from geardyn.sweep import store
+from geardyn.sweep.lock import store_lock
 from geardyn.sweep.case import STATUS_FAILED, run_case
 from geardyn.sweep.spec import Sweep, load_spec
 
@@ -59,7 +62,8 @@ class SweepProgress:
 
 @dataclass
 class SweepSummary:
-    """What a run did: store path, cases run now, skipped (already done), failed now."""
+    """What a run did: store path, cases run now, skipped (already done), failed now; the
+    cases found damaged (and run again), and the failed and pending cases of the store."""
 
     out: Path
     total: int
@@ -67,6 +71,9 @@ class SweepSummary:
     skipped: int
     failed: int
     wall_s: float
+    damaged: dict[int, str] = field(default_factory=dict)
+    failed_total: int = 0
+    pending: int = 0
 
 
 @contextlib.contextmanager
@@ -99,26 +106,6 @@ def _quiet_on_interrupt() -> Iterator[None]:
         yield
     finally:
         log.setLevel(level)
-
-
-def _state_samples(sweep: Sweep) -> int | None:
-    """Length of the state grid: up to the longest planetary run of the sweep (None when a
-    case has no planetary simulation: the first result sets it)."""
-    import math
-
-    step = sweep.spec.outputs.states.step_s
-    if not sweep.spec.outputs.states.variables:
-        return None
-    longest = 0.0
-    for case in sweep.cases:
-        if case.replicate:
-            continue
-        pd = sweep.case_config(case).get("planetary_dynamics") or {}
-        sim = pd.get("simulation")
-        if not sim:
-            return None
-        longest = max(longest, sweep.spec.run.t_end_s or sim["t_end_s"])
-    return int(math.floor(longest / step + 1e-9)) + 1
 
 
 def _task(sweep: Sweep, i: int, state_samples: int | None) -> dict[str, Any]:
@@ -201,48 +188,58 @@ def run(
     t0 = time.perf_counter()
     sweep = spec if isinstance(spec, Sweep) else load_spec(spec, overrides)
     out = Path(out)
-    if out.exists():
-        store.check_same_sweep(out, sweep)
-    else:
-        if not out.parent.exists():
-            raise InputError(f"--out: directory '{out.parent}' does not exist")
-        store.create(out, sweep)
-    status = store.statuses(out)
     if cases is not None:
         bad = [i for i in cases if not 0 <= i < len(sweep.cases)]
         if bad:
             raise InputError(f"cases: {bad} out of range (the sweep has cases 0 to "
                              f"{len(sweep.cases) - 1})")
-    wanted = set(range(len(sweep.cases)) if cases is None else cases)
-    todo = [i for i, s in enumerate(status) if i in wanted
-            and (s == store.PENDING or (retry_failed and s == STATUS_FAILED))]
-    prog = SweepProgress(total=len(sweep.cases), skipped=len(sweep.cases) - len(todo),
-                         started=time.perf_counter())
-    if progress is not None:
-        progress(prog)
-    if todo:
-        with _quiet_on_interrupt(), contextlib.ExitStack() as stack:
-            cl = client if client is not None else stack.enter_context(
-                _client(scheduler, n_workers))
-            _run_cases(cl, sweep, out, todo, prog, progress)
-    if sweep.spec.outputs.verdicts is not None:
-        from geardyn.sweep.verdicts import write_verdicts
+    if not out.parent.exists():
+        raise InputError(f"--out: directory '{out.parent}' does not exist")
+    with store_lock(out):
+        damaged: dict[int, str] = {}
+        if out.exists():
+            store.check_same_sweep(out, sweep)
+            damaged = store.verify(out)
+        else:
+            from geardyn.sweep.layout import plan
 
-        write_verdicts(out, sweep.spec.outputs.verdicts)
+            if not store.create(out, sweep, plan(sweep)):
+                store.check_same_sweep(out, sweep)
+        status = store.statuses(out)
+        wanted = set(range(len(sweep.cases)) if cases is None else cases)
+        todo = [i for i, s in enumerate(status) if i in wanted
+                and (s == store.PENDING or i in damaged
+                     or (retry_failed and s == STATUS_FAILED))]
+        prog = SweepProgress(total=len(sweep.cases), skipped=len(sweep.cases) - len(todo),
+                             started=time.perf_counter())
+        if progress is not None:
+            progress(prog)
+        if todo:
+            with _quiet_on_interrupt(), contextlib.ExitStack() as stack:
+                cl = client if client is not None else stack.enter_context(
+                    _client(scheduler, n_workers))
+                _run_cases(cl, sweep, out, todo, prog, progress)
+        if sweep.spec.outputs.verdicts is not None:
+            from geardyn.sweep.verdicts import write_verdicts
+
+            write_verdicts(out, sweep)
+        final = store.statuses(out)
     return SweepSummary(out, len(sweep.cases), prog.done, prog.skipped, prog.failed,
-                        time.perf_counter() - t0)
+                        time.perf_counter() - t0, damaged=damaged,
+                        failed_total=int((final == STATUS_FAILED).sum()),
+                        pending=int((final == store.PENDING).sum()))
 
 
 def _run_cases(client: Any, sweep: Sweep, out: Path, todo: list[int], prog: SweepProgress,
                progress: Callable[[SweepProgress], None] | None) -> None:
     from distributed import as_completed
 
-    n_state = _state_samples(sweep)
+    writer = store.Writer(out)
+    n_state = writer.sizes.get("state_time")
     token = uuid.uuid4().hex[:8]
     futures = [client.submit(run_case, _task(sweep, i, n_state), key=f"geardyn-case-{i}-{token}",
                              pure=False) for i in todo]
     index = {f.key: i for f, i in zip(futures, todo, strict=True)}
-    writer = store.Writer(out, len(sweep.cases))
     try:
         for fut in as_completed(futures):
             i = index[fut.key]
@@ -251,8 +248,6 @@ def _run_cases(client: Any, sweep: Sweep, out: Path, todo: list[int], prog: Swee
             except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker after retries
                 res = _failed(i, exc)
             with _deferred_sigint():
-                if res["arrays"]:
-                    writer.ensure_variables(res["arrays"], res.get("kinds", {}))
                 writer.write_case(i, res)
             fut.release()
             prog.done += 1

@@ -1,27 +1,35 @@
 """The Zarr store of a sweep: one xarray data set with a ``case`` dimension.
 
-Layout (``geardyn.sweep/1``):
+Layout (``geardyn.sweep/2``; every per-case variable and dimension is created with the store,
+its shape fixed from the spec and the cases' own configs by :func:`geardyn.sweep.layout.plan`,
+never by whichever case finishes first):
 
 * coordinates along ``case``: one per axis (its labels: the values, or ``labels`` of the
   spec), ``replicate``, ``seed`` (the case's run seed, :func:`geardyn.sweep.spec.case_seed`);
 * ``status`` (``''`` while pending; the run's status ``ok``/``diverged``/``suspect``/… or
   ``failed``) and ``message``; ``wall_time_s`` (time the worker spent on the case — the only
-  variable that differs between two runs of one sweep);
+  variable that differs between two runs of one sweep); ``checksum`` (SHA-256 of the case's
+  rows, :func:`case_checksum`);
 * ``channels.<name>`` (case, ``<name>.sample``) with ``channels.<name>.time`` [s]
-  (and ``.angle`` [rad] for encoder channels), NaN-padded;
+  (and ``.angle`` [rad] for encoder channels), the case's samples first, NaN after;
+  ``channels.<name>.length`` the samples stored, ``.samples_computed`` before the cut;
 * ``state.<var>`` (case, state_time, shaft | mesh);
-* ``indicators`` (case, component, indicator, block), with ``component_kind``;
-* ``verdict`` and ``margin`` (case, component) when the spec asks for verdicts.
+* ``indicators`` (case, component, indicator, block), ``revolutions`` (case, component),
+  with ``component_kind``;
+* verdict variables (:mod:`geardyn.sweep.verdicts`) when the spec asks for verdicts.
 
-Every per-case variable is chunked one case per chunk. The driver alone writes: a case's data
-first, then its ``status`` (the commit mark: a case without status is pending and is run
-again on resume, overwriting the same chunks). The store is created aside and renamed into
-place, and zarr's local store writes each chunk file atomically (temporary file + rename), so
-the store stays readable whenever the driver is killed.
+Every per-case variable is chunked one case per chunk. The driver alone writes: a case's rows
+first, then its checksum, then its ``status`` (the commit mark: a case without status is
+pending and is run again on resume, overwriting the same chunks). The store is created aside
+and renamed into place, and zarr's local store writes each chunk file atomically (temporary
+file + rename), so the store stays readable whenever the driver is killed. :func:`verify`
+recomputes the checksums: a deleted chunk (it reads as NaN) or a damaged one (it does not
+decode) names its case.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -34,11 +42,13 @@ import numpy as np
 import xarray as xr
 
 from geardyn.errors import InputError
+from geardyn.sweep.layout import LABEL_DIMS
 
 if TYPE_CHECKING:
+    from geardyn.sweep.layout import Layout
     from geardyn.sweep.spec import Sweep
 
-LAYOUT = "geardyn.sweep/1"
+LAYOUT = "geardyn.sweep/2"
 PENDING = ""
 
 
@@ -58,8 +68,12 @@ def _open(path: Path) -> xr.Dataset:
         return xr.open_zarr(path, consolidated=False)
 
 
-def create(path: str | Path, sweep: Sweep) -> None:
-    """A new store for ``sweep``: case coordinates, empty status, provenance attributes."""
+def create(path: str | Path, sweep: Sweep, layout: Layout) -> bool:
+    """A new store for ``sweep`` with every per-case variable of ``layout`` (NaN or ``''``:
+    metadata only), case coordinates, empty status, provenance attributes. False when another
+    driver created the store at ``path`` first (then it is used as it is)."""
+    import dask.array as da
+
     from geardyn import __version__
 
     p = Path(path)
@@ -85,7 +99,29 @@ def create(path: str | Path, sweep: Sweep) -> None:
         "message": ("case", _strings([""] * n), {"long_name": "why a case is not ok"}),
         "wall_time_s": ("case", np.full(n, np.nan), {"units": "s",
                                                      "long_name": "worker time of the case"}),
+        "checksum": ("case", _strings([""] * n),
+                     {"long_name": "SHA-256 of the case's rows (every per-case variable and "
+                                   "its message), written before its status"}),
     }
+    enc: dict[str, Any] = {v: {"chunks": (1,)} for v in data}
+    text = []
+    for name, var in layout.variables.items():
+        shape = (n, *(layout.sizes[d] for d in var.dims))
+        if var.text:
+            data[name] = (("case", *var.dims), np.full(shape, "", dtype=object), var.attrs)
+            text.append(name)
+        else:
+            data[name] = (("case", *var.dims), da.full(shape, np.nan, chunks=(1, *shape[1:])),
+                          var.attrs)
+            enc[name] = {"fill_value": np.nan}
+        enc.setdefault(name, {})["chunks"] = (1, *shape[1:])
+    for d, (labels, attrs) in layout.coords.items():
+        arr = _strings([str(x) for x in labels]) if d in LABEL_DIMS else np.asarray(labels)
+        coords[d] = (d, arr, attrs)
+    if "component" in layout.coords:
+        coords["component_kind"] = ("component", _strings(
+            [layout.component_kind.get(str(c), "") for c in layout.coords["component"][0]]),
+            {"long_name": "kind of the component (shaft, wheel, bearing, sun, planet, ring)"})
     ds = xr.Dataset(data, coords=coords)
     ds.attrs = {
         "geardyn_layout": LAYOUT,
@@ -100,13 +136,20 @@ def create(path: str | Path, sweep: Sweep) -> None:
         "seed_rule": "seed = SeedSequence([sweep_seed, case]).generate_state(1)[0]",
         "combine": sweep.spec.sweep.combine,
         "axes": json.dumps([a.name for a in sweep.axes]),
+        "case_variables": json.dumps(sorted(layout.variables)),
+        "case_text_variables": json.dumps(sorted(text)),
     }
-    enc = {v: {"chunks": (1,)} for v in data}
     # written aside and renamed: a store at ``path`` is always complete
     tmp = p.with_name(f".{p.name}.creating-{uuid.uuid4().hex[:8]}")
     try:
-        _to_zarr(ds, tmp, mode="w-", encoding=enc)
-        os.rename(tmp, p)
+        _to_zarr(ds, tmp, mode="w-", encoding=enc, compute=False)  # numpy parts written
+        try:
+            os.rename(tmp, p)
+        except OSError:
+            if p.exists():  # another driver's store arrived first: use it
+                return False
+            raise
+        return True
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
@@ -138,93 +181,64 @@ def open_dataset(path: str | Path) -> xr.Dataset:
     return ds
 
 
-def statuses(path: str | Path) -> np.ndarray:
-    """Status of every case (``''`` pending)."""
-    return np.asarray(_open(Path(path))["status"].values, dtype=object)
+
+#: Per-case variable every case writes besides the layout's, in the checksum (``wall_time_s``
+#: is left out: it is the one variable that differs between two runs of a sweep, and the
+#: checksum, like every other variable, is the same).
+CASE_META = ("message",)
 
 
-def _case_dims(name: str, entry: tuple) -> tuple[str, ...]:
-    return ("case", *entry[2])
+def _canonical(values: Any, text: bool) -> bytes:
+    """Bytes of a case's row for the checksum: strings as UTF-8 (NUL-separated), numbers as
+    little-endian float64 with every NaN the same bit pattern."""
+    if text:
+        return "\0".join(str(x) for x in np.asarray(values, dtype=object).ravel()).encode()
+    a = np.asarray(values, dtype="<f8")
+    a = np.where(np.isnan(a), np.nan, a)
+    return np.ascontiguousarray(a).tobytes()
 
 
-def ensure_variables(path: str | Path, arrays: dict[str, tuple], kinds: dict[str, str],
-                     n_cases: int) -> None:
-    """Add to the store, full size and NaN-filled (metadata only), the per-case variables of a
-    case result not yet in it, with the coordinates of their new dimensions."""
-    import dask.array as da
-
-    p = Path(path)
-    store = _open(p)
-    new = {k: e for k, e in arrays.items() if k not in store.data_vars}
-    if not new:
-        return
-    coords: dict[str, Any] = {}
-    sizes: dict[str, int] = {}
-    for _name, (values, _attrs, dims, cds) in new.items():
-        for d, n in zip(dims, np.shape(values), strict=True):
-            if d in store.dims:
-                sizes[d] = store.sizes[d]
-                continue
-            sizes[d] = max(sizes.get(d, 0), n)
-            if d in cds and d not in coords:
-                lab = list(cds[d])
-                if d in ("component", "indicator", "shaft", "mesh"):
-                    lab = sorted(str(x) for x in lab)
-                    arr: Any = _strings(lab)
-                else:
-                    arr = np.asarray(lab)
-                coords[d] = (d, arr)
-                sizes[d] = len(lab)
-    if "component" in coords:
-        comps = list(coords["component"][1])
-        coords["component_kind"] = ("component", _strings([kinds.get(c, "") for c in comps]))
-    data = {}
-    enc = {}
-    for name, (_values, attrs, dims, _cds) in new.items():
-        shape = (n_cases, *(sizes[d] for d in dims))
-        data[name] = (("case", *dims), da.full(shape, np.nan, chunks=(1, *shape[1:])), attrs)
-        enc[name] = {"chunks": (1, *shape[1:]), "fill_value": np.nan}
-    ds = xr.Dataset(data, coords=coords, attrs=dict(store.attrs))
-    if "state_time" in coords:
-        ds["state_time"].attrs.update(units="s", long_name="time of the state samples")
-    _to_zarr(ds, p, mode="a", compute=False, encoding=enc)
+def case_checksum(rows: dict[str, tuple[Any, bool]]) -> str:
+    """SHA-256 over the rows of one case (name → (values, is text)), names in sorted order."""
+    h = hashlib.sha256()
+    for name in sorted(rows):
+        values, text = rows[name]
+        h.update(name.encode() + b"\0")
+        h.update(_canonical(values, text))
+        h.update(b"\1")
+    return "sha256:" + h.hexdigest()
 
 
 class Writer:
     """Writes cases into the store at ``path`` through zarr (one chunk per case and
-    variable); the store's layout (dimension labels and sizes) is read once and again only
-    after :meth:`ensure_variables` adds variables."""
+    variable): every per-case variable of the layout (NaN or ``''`` where the case has no
+    value), its message and wall time, its checksum, then its status (the commit mark)."""
 
-    def __init__(self, path: str | Path, n_cases: int) -> None:
-        self.path = Path(path)
-        self.n_cases = n_cases
-        self._refresh()
-
-    def _refresh(self) -> None:
+    def __init__(self, path: str | Path) -> None:
         import zarr
 
+        self.path = Path(path)
         ds = _open(self.path)
-        self.names = set(ds.data_vars)
         self.sizes = dict(ds.sizes)
+        self.variables = json.loads(ds.attrs["case_variables"])
+        self.text = set(json.loads(ds.attrs["case_text_variables"]))
+        self.dims = {n: tuple(ds[n].dims[1:]) for n in self.variables}
         self.labels = {d: {str(x): k for k, x in enumerate(ds[d].values)}
-                       for d in ("component", "indicator", "shaft", "mesh") if d in ds.coords}
+                       for d in LABEL_DIMS if d in ds.coords}
         self.group = zarr.open_group(str(self.path), mode="r+")
 
-    def ensure_variables(self, arrays: dict[str, tuple], kinds: dict[str, str]) -> None:
-        """Add the result's variables the store lacks (see :func:`ensure_variables`)."""
-        if set(arrays) - self.names:
-            ensure_variables(self.path, arrays, kinds, self.n_cases)
-            self._refresh()
-
-    def _aligned(self, values: np.ndarray, dims: list[str], cds: dict[str, Any]
+    def _aligned(self, values: np.ndarray, dims: tuple[str, ...], cds: dict[str, Any]
                  ) -> tuple[np.ndarray, list[str]]:
         """``values`` on the store's grid of ``dims`` (labels matched, samples NaN-padded);
         labels the store lacks are dropped and returned."""
+        v = np.asarray(values, float)
+        if not dims:
+            return v.reshape(()), []
         out = np.full([self.sizes[d] for d in dims], np.nan)
         dropped: list[str] = []
         src: list[np.ndarray] = []
         dst: list[np.ndarray] = []
-        for d, n in zip(dims, np.shape(values), strict=True):
+        for d, n in zip(dims, np.shape(v), strict=True):
             if d in cds and d in self.labels:
                 have = self.labels[d]
                 lab = [str(x) for x in cds[d]]
@@ -234,30 +248,126 @@ class Writer:
                 dst.append(np.array([have[lab[k]] for k in keep], int))
             else:
                 m = min(n, self.sizes[d])
+                if n > self.sizes[d]:
+                    dropped.append(f"{d} samples {self.sizes[d]}…{n - 1}")
                 src.append(np.arange(m))
                 dst.append(np.arange(m))
-        out[np.ix_(*dst)] = np.asarray(values, float)[np.ix_(*src)]
+        out[np.ix_(*dst)] = v[np.ix_(*src)]
         return out, dropped
 
-    def write_case(self, index: int, result: dict[str, Any]) -> None:
-        """Write one case's arrays, then its message and wall time, then its status (the
-        commit mark)."""
+    def rows(self, index: int, result: dict[str, Any]) -> tuple[dict[str, tuple[Any, bool]],
+                                                                  list[str]]:
+        """Every per-case row of ``result`` on the store's grid, and what did not fit."""
         dropped: list[str] = []
-        for name, (values, _attrs, dims, cds) in result["arrays"].items():
-            if name not in self.names:
-                dropped.append(name)
+        rows: dict[str, tuple[Any, bool]] = {}
+        arrays = result.get("arrays", {})
+        for name in self.variables:
+            dims = self.dims[name]
+            if name in self.text:
+                rows[name] = (np.full([self.sizes[d] for d in dims], "", dtype=object), True)
                 continue
-            arr, d = self._aligned(values, list(dims), cds)
-            dropped += d
-            self.group[name][index] = arr
+            if name in arrays:
+                values, _attrs, rdims, cds = arrays[name]
+                if tuple(rdims) != dims:
+                    dropped.append(f"{name} (dims {tuple(rdims)}, store {dims})")
+                    arr = np.full([self.sizes[d] for d in dims], np.nan)
+                else:
+                    arr, d = self._aligned(values, dims, cds)
+                    dropped += d
+            else:
+                arr = np.full([self.sizes[d] for d in dims], np.nan)
+            rows[name] = (arr, False)
+        dropped += [n for n in arrays if n not in self.variables]
+        return rows, dropped
+
+    def write_case(self, index: int, result: dict[str, Any]) -> None:
+        """Write one case's rows, message, wall time and checksum, then its status (the
+        commit mark: a case is stored whole or is pending)."""
+        rows, dropped = self.rows(index, result)
         message = str(result["message"])
         if dropped:
             message += ("; " if message else "") + "not stored (not in the store's layout): " \
                 + ", ".join(sorted(set(dropped))[:10])
-        self.group["message"][index] = message
+        rows["message"] = (np.array(message, dtype=object), True)
         self.group["wall_time_s"][index] = float(result.get("wall_time_s", np.nan))
+        for name, (values, text) in rows.items():
+            if name == "message":
+                self.group[name][index] = message
+            elif text:
+                self.group[name][index] = np.asarray(values, dtype=object).astype(str)
+            else:
+                self.group[name][index] = values
+        self.group["checksum"][index] = case_checksum(rows)
         self.group["status"][index] = str(result["status"])
 
+
+def _read_row(group: Any, name: str, index: int, text: bool) -> Any:
+    v = group[name][index]
+    return np.asarray(v, dtype=object) if text else np.asarray(v, dtype=float)
+
+
+def verify(path: str | Path, cases: list[int] | None = None) -> dict[int, str]:
+    """Cases whose stored data no longer match their checksum (a deleted or damaged chunk):
+    case index → what is wrong. Only cases with a status are checked (pending ones have
+    nothing to check); a status chunk that cannot be read counts as damaged."""
+    import zarr
+
+    p = Path(path)
+    ds = _open(p)
+    variables = json.loads(ds.attrs["case_variables"])
+    text = set(json.loads(ds.attrs["case_text_variables"])) | {"message"}
+    group = zarr.open_group(str(p), mode="r")
+    status, unreadable = _statuses(group, ds.sizes["case"])
+    damaged = {i: f"status unreadable ({e})" for i, e in unreadable.items()}
+    todo = range(ds.sizes["case"]) if cases is None else cases
+    for i in todo:
+        if i in damaged or status[i] == PENDING:
+            continue
+        rows: dict[str, tuple[Any, bool]] = {}
+        bad = ""
+        for name in [*variables, *CASE_META]:
+            try:
+                rows[name] = (_read_row(group, name, i, name in text), name in text)
+            except Exception as exc:  # noqa: BLE001 - any decoding error is damage
+                bad = f"'{name}' unreadable ({type(exc).__name__}: {exc})"
+                break
+        if not bad:
+            try:
+                stored = str(group["checksum"][i])
+            except Exception as exc:  # noqa: BLE001
+                stored, bad = "", f"'checksum' unreadable ({type(exc).__name__})"
+            if not bad and stored != case_checksum(rows):
+                bad = ("checksum mismatch: a chunk of the case was deleted or changed"
+                       if stored else "no checksum (written without one, or its chunk lost)")
+        if bad:
+            damaged[i] = bad
+    return damaged
+
+
+def _statuses(group: Any, n: int) -> tuple[np.ndarray, dict[int, str]]:
+    """Status of every case, reading chunk by chunk when the whole array cannot be read;
+    unreadable ones are pending (and listed)."""
+    try:
+        return np.asarray(group["status"][:], dtype=object), {}
+    except Exception:  # noqa: BLE001 - a damaged status chunk: find it
+        pass
+    out = np.full(n, PENDING, dtype=object)
+    bad: dict[int, str] = {}
+    for i in range(n):
+        try:
+            out[i] = str(group["status"][i])
+        except Exception as exc:  # noqa: BLE001
+            bad[i] = f"{type(exc).__name__}: {exc}"
+    return out, bad
+
+
+def statuses(path: str | Path) -> np.ndarray:
+    """Status of every case (``''`` pending, and for a status chunk that cannot be read)."""
+    import zarr
+
+    p = Path(path)
+    n = _open(p).sizes["case"]
+    return _statuses(zarr.open_group(str(p), mode="r"), n)[0]
 
 def check_same_sweep(path: str | Path, sweep: Sweep) -> xr.Dataset:
     """The existing store at ``path`` if it was made by ``sweep`` (same spec and base config);
