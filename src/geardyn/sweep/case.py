@@ -105,7 +105,8 @@ def _indicators(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
         if int(b) < o.blocks:
             arr[ci[str(c)], ii[str(i)], int(b)] = float(v)
     kinds = dict(zip(table["component"].astype(str), table["kind"].astype(str), strict=False))
-    return {**_judgeable(feats), "indicators": (arr, {"units": "1", "long_name": f"condition indicators of channel "
+    return {**_judgeable(feats),
+            "indicators": (arr, {"units": "1", "long_name": f"condition indicators of channel "
                                 f"{ch} per block", "channel": ch},
                           ["component", "indicator", "block"],
                           {"component": comps, "indicator": inds,

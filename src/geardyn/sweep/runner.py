@@ -26,8 +26,8 @@ import xarray as xr
 
 from geardyn.errors import InputError
 from geardyn.sweep import store
-from geardyn.sweep.lock import store_lock
 from geardyn.sweep.case import STATUS_FAILED, run_case
+from geardyn.sweep.lock import store_lock
 from geardyn.sweep.spec import Sweep, load_spec
 
 #: Environment of LocalCluster workers: one thread for BLAS, OpenMP and numba per process.
