@@ -163,6 +163,18 @@ def test_case_is_reproducible_alone(reference: Path, spec_path: Path) -> None:
         stored = ds["indicators"].sel(component=r["component"], indicator=r["indicator"],
                                       block=r["block"]).values[4]
         assert stored == r["value"] or (np.isnan(stored) and np.isnan(r["value"]))
+    # isolation statistics: the per-order statistics of the result's sun-shaft revolutions
+    from geardyn.diagnosis.isolation import isolation_blocks, order_stats
+
+    blocks = isolation_blocks(res, parse_config(sw.case_config(case)), "ring_acc")
+    st = order_stats(blocks.domains[blocks.of["sun"]])
+    row = ds.sel(domain="sun").isel(case=4)
+    k = st.mean.size
+    np.testing.assert_array_equal(row["isolation.mean_real"].values[:k], st.mean.real)
+    np.testing.assert_array_equal(row["isolation.mean_imag"].values[:k], st.mean.imag)
+    np.testing.assert_array_equal(row["isolation.variance"].values[:k], st.var)
+    assert np.isnan(row["isolation.mean_real"].values[k:]).all()
+    assert int(row["isolation.revolutions"]) == st.n
 
 
 def test_two_workers_identical_to_one(reference: Path, spec_path: Path, cluster,  # noqa: ANN001
@@ -269,12 +281,14 @@ def test_verdicts_against_hand_thresholds(reference: Path) -> None:
         th = mu + 3.0 * np.maximum(cn * s, 0.05 * np.abs(mu))
         margin = float(np.max(v[i] / th))
         assert float(ds["margin"].sel(component="sun")[i]) == pytest.approx(margin, rel=1e-12)
-        # no isolation evidence for a shaft in a sweep: a detection is 'uncertain', never
-        # 'healthy' (and never 'alarm' = localised)
-        state = "uncertain" if margin > 1 else "healthy"
+        # the only judgeable component: detected → localised to it by its coherent SDR
+        # (the 30 % sun crack repeats with the sun shaft), else healthy
+        state = "alarm" if margin > 1 else "healthy"
         assert ds["verdict"].sel(component="sun").values[i] == state
         assert ds["verdict_state"].values[i] == state
-        assert ds["location"].values[i] == ""
+        assert ds["location"].values[i] == ("sun" if margin > 1 else "")
+    assert list(ds["verdict_state"].values) == ["healthy"] * 3 + ["alarm"] * 3
+    np.testing.assert_array_equal(ds["location_confidence"].values[3:], 1.0)
     # components with fewer than 4 whole own revolutions are not judged (issue 18 part 7)
     assert (ds["revolutions"].sel(component="carrier") < 4).all()
     assert (ds["revolutions"].sel(component="sun") >= 4).all()

@@ -148,6 +148,48 @@ def _judgeable(feats: Any) -> dict[str, Any]:
     return out
 
 
+def _isolation(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
+    """Per-order synchronous statistics (:func:`geardyn.diagnosis.isolation.order_stats`: the
+    mean revolution's spectrum and the revolutions' variance per order) of every own-angle,
+    transmission-error and planet-separated domain of the channel: all the coherent
+    synchronous deviation ratio needs (:func:`~geardyn.diagnosis.isolation.coherent_sdr`),
+    so that the sweep's verdicts weigh the same isolation evidence as ``geardyn diagnose``.
+    A domain is labelled by its components (:func:`geardyn.sweep.layout.domain_labels`)."""
+    from geardyn.diagnosis.isolation import isolation_blocks, order_stats
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.results import channel, channels
+
+    o = options(cfg, channel=opts.get("channel"), skip_s=opts.get("skip_s"),
+                blocks=opts.get("blocks"))
+    ch = channel(ds, o.channel).name if o.channel else channels(ds)[0]
+    b = isolation_blocks(ds, cfg, ch, reference=o.reference, skip_s=o.skip_s)
+    groups: dict[str, list[str]] = {}
+    for c, key in b.of.items():
+        groups.setdefault(key, []).append(c)
+    labels = {key: "+".join(sorted(cs)) for key, cs in groups.items()}
+    labels.update({key: f"TE:{w}" for w, key in b.of_te.items()})
+    labels.update({key: f"planet:{p}" for p, key in b.of_planet.items()})
+    names, stats = [], []
+    for key, rows in b.domains.items():
+        if key in labels and rows.shape[0] >= 2:
+            names.append(labels[key])
+            stats.append(order_stats(rows))
+    if not names:
+        return {}
+    k = max(st.mean.size for st in stats)
+    re_, im_, var = (np.full((len(names), k), np.nan) for _ in range(3))
+    for j, st in enumerate(stats):
+        re_[j, :st.mean.size] = st.mean.real
+        im_[j, :st.mean.size] = st.mean.imag
+        var[j, :st.var.size] = st.var
+    dims, cds = ["domain", "order"], {"domain": names}
+    return {"isolation.mean_real": (re_, {}, dims, cds),
+            "isolation.mean_imag": (im_, {}, dims, cds),
+            "isolation.variance": (var, {}, dims, cds),
+            "isolation.revolutions": (np.array([float(st.n) for st in stats]), {}, ["domain"],
+                                      cds)}
+
+
 def run_case(task: dict[str, Any]) -> dict[str, Any]:
     """Run one case (called on a dask worker). ``task``: ``index``, ``seed``, ``config``
     (validated config dict), ``run`` (run_simulation overrides), ``outputs`` (OutputSpec as a
@@ -181,6 +223,12 @@ def run_case(task: dict[str, Any]) -> dict[str, Any]:
             else:
                 out["kinds"] = ind.pop("_kinds")
                 out["arrays"].update(ind)
+                if outputs.get("verdicts") is not None:
+                    try:
+                        out["arrays"].update(_isolation(ds, cfg, outputs["indicators"]))
+                    except Exception as exc:  # noqa: BLE001 - recorded, the case stays
+                        out["message"] = (f"isolation statistics not stored: "
+                                          f"{type(exc).__name__}: {exc}")
     except Exception as exc:  # noqa: BLE001 - a failing case records its error
         out["status"] = STATUS_FAILED
         last = traceback.extract_tb(exc.__traceback__)[-1] if exc.__traceback__ else None

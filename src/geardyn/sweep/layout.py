@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from geardyn.sweep.spec import Sweep
 
 #: Dimensions whose labels are strings (matched by name when a case is written).
-LABEL_DIMS = ("component", "indicator", "shaft", "mesh", "bearing_line")
+LABEL_DIMS = ("component", "indicator", "shaft", "mesh", "bearing_line", "domain")
 
 #: Units of a sensor channel by kind (geardyn.sensors.channels): accelerometers read a force
 #: [N] without a transfer path, an acceleration behind one.
@@ -142,6 +142,44 @@ def _components(cfg: Any, ref: str | None) -> list[tuple[str, str, float]]:
     return [(c.name, c.kind, float(c.abs_ratio)) for c in comps.items]
 
 
+#: Orders kept of each domain's per-order statistics: half the largest samples per revolution
+#: of :func:`geardyn.diagnosis.isolation.isolation_blocks` (32768), plus order 0.
+ISOLATION_ORDERS = 32768 // 2 + 1
+
+
+def domain_labels(cfg: Any, ref: str | None, channel: str | None) -> list[str]:
+    """Labels of the isolation domains a case of ``cfg`` can have (as :func:`geardyn.sweep.
+    case._isolation` names them): the components sharing an own angle and mesh orders joined
+    by ``+`` (the planets of a stage, say), ``TE:<wheel>`` for each wheel of a
+    ``transmission_error`` channel's pair, ``planet:<name>`` for each planet (its
+    planet-separated rows at a ring sensor)."""
+    from geardyn.diagnosis.components import machine_components
+    from geardyn.diagnosis.isolation import ROTATING
+
+    comps = machine_components(cfg, ref)
+    groups: dict[tuple, list[str]] = {}
+    for c in comps.items:
+        if c.kind in ROTATING and c.abs_ratio != 0.0:
+            key = (f"{c.abs_ratio:.12g}", tuple(sorted({*c.mesh_orders, *c.other_orders})))
+            groups.setdefault(key, []).append(c.name)
+    out = ["+".join(sorted(v)) for v in groups.values()]
+    names = {c.name for c in comps.items}
+    graph = comps.analysis.graph if comps.analysis is not None else None
+    for s in getattr(cfg, "sensors", []):
+        if s.kind != "transmission_error" or graph is None:
+            continue
+        mesh = next((m for m in graph.meshes if m.name == s.pair), None)
+        if mesh is None:
+            continue
+        for link, wheel, z in ((mesh.link_a, mesh.wheel_a, mesh.teeth_a),
+                               (mesh.link_b, mesh.wheel_b, mesh.teeth_b)):
+            w = wheel or f"{link}/z{z}"
+            if w in names:
+                out.append(f"TE:{w}")
+    out += [f"planet:{c.name}" for c in comps.items if c.kind == "planet"]
+    return out
+
+
 def _reference(cfg: Any, channel: str | None, reference: str | None) -> str | None:
     """The reference link of the indicators (as :func:`geardyn.diagnosis.features.
     features_from_result`: the option, else the channel's shaft, else the first input)."""
@@ -179,6 +217,7 @@ def plan(sweep: Sweep) -> Layout:
     ind = spec.outputs.indicators
     n_blocks = None
     channel = ""
+    domains: set[str] = set()
     checked: dict[str, str | None] = {}
     for index, data in _distinct(sweep):
         where = _where(sweep, index)
@@ -223,8 +262,11 @@ def plan(sweep: Sweep) -> Layout:
                                 f"nothing of the {t_end:g} s run")
                 continue
             try:
-                for name, kind, _r in _components(cfg, _reference(cfg, ch, o.reference)):
+                ref = _reference(cfg, ch, o.reference)
+                for name, kind, _r in _components(cfg, ref):
                     comps.setdefault(name, kind)
+                if spec.outputs.verdicts is not None:
+                    domains.update(domain_labels(cfg, ref, ch))
             except GeardynError as exc:
                 problems.append(f"{where}: indicators: {exc}")
     if problems:
@@ -269,6 +311,26 @@ def plan(sweep: Sweep) -> Layout:
             ("component", "bearing_line"),
             {"units": "1", "long_name": "fault-band energy share of the line's comb in the "
              "squared-envelope spectrum (bearings; MathWorks faultBandMetrics band power)"})
+        if domains:
+            out.coords["domain"] = (sorted(domains), {
+                "long_name": "isolation domain: components sharing an own angle ('+'), the "
+                             "transmission error of a wheel's mesh (TE:), a planet's "
+                             "separated rows (planet:)"})
+            out.sizes["order"] = ISOLATION_ORDERS
+            o_dims = ("domain", "order")
+            u = _sensor_units(sweep.base, channel)
+            out.variables["isolation.mean_real"] = Variable(o_dims, {
+                "units": u, "long_name": "real part of the mean revolution's spectrum / spr "
+                "(geardyn.diagnosis.isolation.order_stats); NaN past the case's orders"})
+            out.variables["isolation.mean_imag"] = Variable(o_dims, {
+                "units": u, "long_name": "imaginary part of the mean revolution's spectrum / "
+                "spr"})
+            out.variables["isolation.variance"] = Variable(o_dims, {
+                "units": f"({u})^2", "long_name": "variance of the revolutions' spectra per "
+                "order (ddof = 1)"})
+            out.variables["isolation.revolutions"] = Variable(("domain",), {
+                "units": "1", "long_name": "whole own revolutions of the domain (NaN: fewer "
+                "than 2)"})
         out.variables["revolutions"] = Variable(
             ("component",), {"units": "1", "long_name": "whole own revolutions of the "
                              "component in the analysed record (0: left out)"})
@@ -277,13 +339,18 @@ def plan(sweep: Sweep) -> Layout:
     return out
 
 
+def _sensor_units(base: dict[str, Any], name: str) -> str:
+    s = next((x for x in base.get("sensors", []) if x.get("name") == name), {})
+    return _UNITS.get(s.get("kind", ""), "m/s^2" if s.get("transfer_path") else "N")
+
+
 def _channels(sweep: Sweep, out: Layout) -> None:
     ch = sweep.spec.outputs.channels
     sensors = {s["name"]: s for s in sweep.base.get("sensors", [])}
     for name in ch.names:
         s = sensors.get(name, {})
         kind = s.get("kind", "")
-        units = _UNITS.get(kind, "m/s^2" if s.get("transfer_path") else "N")
+        units = _sensor_units(sweep.base, name)
         sampling = {"encoder": "angle", "tacho": "events"}.get(kind, "time")
         dim = f"{name}.sample"
         out.sizes[dim] = ch.samples

@@ -15,13 +15,15 @@ own baseline, so its verdict is a fair false-alarm test.
 * **Detection.** Thresholds μ + k·σ over the pooled baseline blocks with the small-sample
   factor and σ floor (:func:`geardyn.diagnosis.baseline.thresholds`), k = ``threshold_k``
   (default 3), judged per component (:func:`geardyn.diagnosis.verdict.judge`).
-* **Localisation** (:func:`geardyn.diagnosis.localise.localise`, docs/diagnosis.md): the
-  bearings' isolation evidence — the fault-band energy share of each line against the same
-  share of every baseline case (:func:`geardyn.diagnosis.isolation.evidence_from_null`) — is
-  stored per case and weighed here; the coherent synchronous deviation ratios of the rotating
-  members need each case's per-revolution spectra, which the store does not keep, so a
-  detection on a gear or shaft ends ``uncertain`` with its candidates ranked by detection
-  margin (never ``healthy``).
+* **Localisation** (:func:`geardyn.diagnosis.localise.localise`, docs/diagnosis.md) from the
+  isolation evidence of ``geardyn diagnose``, computed from what each case stores: the
+  coherent synchronous deviation ratio of every own-angle, transmission-error and
+  planet-separated domain (the per-order statistics ``isolation.*`` of the case against those
+  of its baseline cases, leave-one-out null, :func:`geardyn.diagnosis.isolation.
+  coherent_sdr`) and the bearings' fault-band energy shares (``band_energy`` against the
+  baseline cases' shares, :func:`geardyn.diagnosis.isolation.evidence_from_null`). Each test
+  runs at α = Φ(−k); a detection without evidence ends ``uncertain`` with its candidates
+  ranked by detection margin — never ``healthy``.
 
 Stored: ``verdict_state`` (healthy / alarm = detected and localised / uncertain / unknown;
 '' not judged), ``location`` (components, comma-separated), ``location_confidence`` [1]
@@ -86,6 +88,75 @@ def _components(sweep: Sweep | None, ds: xr.Dataset) -> _Comps | None:
         return None
 
 
+class _Isolation:
+    """Coherent-SDR evidence from the stored per-order statistics (loaded per case on
+    demand; the null sample of a baseline set is computed once)."""
+
+    def __init__(self, ds: xr.Dataset) -> None:
+        self.ds = ds
+        self.labels = [str(x) for x in ds["domain"].values]
+        self._stats: dict[int, list[Any]] = {}
+        self._null: dict[tuple, list[float]] = {}
+
+    def stats(self, i: int) -> list[Any]:
+        from geardyn.diagnosis.isolation import OrderStats
+
+        if i not in self._stats:
+            row = self.ds.isel(case=i)
+            re_ = np.asarray(row["isolation.mean_real"].values, float)
+            im_ = np.asarray(row["isolation.mean_imag"].values, float)
+            var = np.asarray(row["isolation.variance"].values, float)
+            n = np.asarray(row["isolation.revolutions"].values, float)
+            out: list[Any] = []
+            for d in range(len(self.labels)):
+                k = int(np.count_nonzero(np.isfinite(re_[d])))
+                out.append(OrderStats(re_[d, :k] + 1j * im_[d, :k], var[d, :k], int(n[d]))
+                           if np.isfinite(n[d]) and n[d] >= 2 and k > 1 else None)
+            self._stats[i] = out
+        return self._stats[i]
+
+    def evidence(self, i: int, base: list[int], alpha: float, skip: set[str]
+                 ) -> dict[str, Any]:
+        """cSDR (own angle), cSDR_TE (a wheel's mesh; replaces its own-angle evidence) and
+        cSDR_planet evidence of case ``i`` against the baseline cases ``base``
+        (:func:`geardyn.diagnosis.isolation.sdr_evidence` on stored statistics); components
+        in ``skip`` (too short) get none."""
+        from dataclasses import replace
+
+        from geardyn.diagnosis.isolation import coherent_sdr, evidence_from_null
+
+        if len(base) < 2:
+            return {}
+        rec = self.stats(i)
+        bases = [self.stats(j) for j in base]
+        out: dict[str, Any] = {}
+        order = sorted(range(len(self.labels)),
+                       key=lambda d: self.labels[d].startswith(("TE:", "planet:")))
+        for d in order:
+            label = self.labels[d]
+            b = [s[d] for s in bases]
+            if rec[d] is None or any(x is None for x in b):
+                continue
+            key = (d, tuple(base))
+            if key not in self._null:
+                self._null[key] = [coherent_sdr(x, [y for k, y in enumerate(b) if k != m])
+                                   for m, x in enumerate(b)]
+            measure = ("cSDR_TE" if label.startswith("TE:") else "cSDR_planet"
+                       if label.startswith("planet:") else "cSDR")
+            ev = evidence_from_null("", measure, coherent_sdr(rec[d], b), self._null[key],
+                                    alpha, group=label)
+            if measure == "cSDR_planet":
+                p = label.split(":", 1)[1]
+                if p not in skip:
+                    out[f"{p}#planet"] = replace(ev, component=p)
+                continue
+            members = [label.split(":", 1)[1]] if measure == "cSDR_TE" else label.split("+")
+            for c in members:
+                if c not in skip:
+                    out[c] = replace(ev, component=c)
+        return out
+
+
 def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) -> xr.Dataset:
     """Verdict variables (module docstring) of the sweep data set ``ds``."""
     from scipy.stats import norm
@@ -117,6 +188,7 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) ->
     alpha = float(norm.sf(k_factor))
     rotating = np.array([k in ROTATING for k in kinds])
     info = _components(sweep, ds)
+    iso = _Isolation(ds) if "isolation.mean_real" in ds else None
 
     state = np.full((n, len(comps)), "", dtype=object)
     margin = np.full((n, len(comps)), np.nan)
@@ -166,7 +238,11 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) ->
                         best = ev
                 if best is not None:
                     evidence[comps[c]] = best
-        tests = sum(len(c.indicators) for c in v.components.values()) + len(evidence)
+        if iso is not None:
+            evidence.update(iso.evidence(i, base, alpha, {comps[c] for c in
+                                                          np.flatnonzero(short)}))
+        tests = (sum(len(c.indicators) for c in v.components.values())
+                 + len({ev.group for ev in evidence.values()}))
         localise(v, evidence, info, alpha=alpha,
                  false_alarm_probability=float(-math.expm1(max(tests, 1)
                                                            * math.log1p(-alpha))),
