@@ -71,10 +71,12 @@ def _interleaved(sweep, cases: list[int]) -> dict:  # noqa: ANN001
     from geardyn.run import run_simulation
     from geardyn.sweep import store
     from geardyn.sweep.case import run_case
-    from geardyn.sweep.runner import _state_samples, _task
+    from geardyn.sweep.layout import plan
+    from geardyn.sweep.runner import _task
 
     ind = sweep.spec.outputs.indicators
-    n_state = _state_samples(sweep)
+    layout = plan(sweep)
+    n_state = layout.sizes.get("state_time")
     t_direct = t_case = 0.0
     results = []
     for i in cases:
@@ -89,9 +91,8 @@ def _interleaved(sweep, cases: list[int]) -> dict:  # noqa: ANN001
         t_direct += t1 - t0
         t_case += time.perf_counter() - t1
     with tempfile.TemporaryDirectory() as tmp:
-        store.create(Path(tmp) / "w.zarr", sweep)
-        writer = store.Writer(Path(tmp) / "w.zarr", len(sweep.cases))
-        writer.ensure_variables(results[0]["arrays"], results[0]["kinds"])
+        store.create(Path(tmp) / "w.zarr", sweep, layout)
+        writer = store.Writer(Path(tmp) / "w.zarr")
         t0 = time.perf_counter()
         for i, r in zip(cases, results, strict=True):
             writer.write_case(i, r)
