@@ -141,12 +141,12 @@ def test_every_sample_of_every_case(reference: Path, spec_path: Path) -> None:
     assert np.isnan(ds["channels.carrier_enc"].values[1, n[1]:]).all()
 
 
-def test_one_and_two_workers_and_a_repeat_give_one_store(reference: Path, spec_path: Path,
+def test_one_and_two_workers_give_one_store(reference: Path, spec_path: Path,
                                                          cluster, tmp_path: Path) -> None:  # noqa: ANN001
+    """(Repeated runs: every other test of this file compares its store with the reference
+    too — after damage, two drivers, kills.)"""
     run(spec_path, tmp_path / "two.zarr", client=cluster)
     same_store(reference, tmp_path / "two.zarr")
-    run(spec_path, tmp_path / "again.zarr", client=cluster)
-    same_store(reference, tmp_path / "again.zarr")
 
 
 def _chunk(store: Path, name: str, case: int) -> Path:
@@ -197,14 +197,17 @@ def test_a_second_driver_is_refused(reference: Path, spec_path: Path, cluster,  
     procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
              for _ in range(2)]
     outs = [p.communicate(timeout=240) for p in procs]
-    codes = sorted(p.returncode for p in procs)
     text = "\n".join(o + e for o, e in outs)
-    assert codes == [0, 2], text
     assert "Traceback" not in text and "internal error" not in text.lower(), text
-    refused = next(o + e for p, (o, e) in zip(procs, outs, strict=True) if p.returncode == 2)
-    assert "in use by another geardyn sweep" in refused and "pid " in refused, refused
-    ran = next(o for p, (o, _) in zip(procs, outs, strict=True) if p.returncode == 0)
-    assert "4 case(s) run now" in ran.replace("\n", " "), ran
+    run_now = []
+    for p, (o, e) in zip(procs, outs, strict=True):
+        if p.returncode == 2:  # refused before computing anything, naming the running one
+            assert "in use by another geardyn sweep" in o + e and "pid " in o + e, o + e
+            run_now.append(0)
+        else:  # (a driver that got the lock after the other one finished runs nothing)
+            assert p.returncode == 0, o + e
+            run_now.append(int(o.replace("\n", " ").split(" case(s) run now")[0].split()[-1]))
+    assert sorted(run_now) == [0, 4], text  # every case computed exactly once
     same_store(reference, out)
     assert not lock_path(out).exists()
     # a stale lock: this host, a pid that is not running
@@ -258,7 +261,8 @@ def test_chaos_kills_driver_and_worker(reference: Path, spec_path: Path, cluster
     cluster.wait_for_workers(2, timeout=120)
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
     assert r.returncode == 0, r.stdout + r.stderr
-    assert "taking over the lock" in r.stderr  # the killed driver's lock was stale
+    if at_kill[-1] < 4:  # the last driver was killed mid-sweep, holding the lock: stale
+        assert "taking over the lock" in r.stderr, r.stderr
     same_store(reference, out)
     assert verify(out) == {}
 
