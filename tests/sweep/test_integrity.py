@@ -125,6 +125,7 @@ def test_every_sample_of_every_case(reference: Path, spec_path: Path) -> None:
 
     ds = open_dataset(reference).load()
     assert list(ds["status"].values) == ["ok"] * 4
+    assert list(ds["message"].values) == [""] * 4
     n = ds["channels.carrier_enc.length"].values.astype(int)
     assert n[0] > n[2] > 0  # 1187.5 rpm cases have more encoder samples than 950 rpm ones
     np.testing.assert_array_equal(n, ds["channels.carrier_enc.samples_computed"].values)

@@ -114,6 +114,7 @@ def assert_same_store(a: Path, b: Path) -> None:
 def test_reference_store(reference: Path) -> None:
     ds = open_dataset(reference).load()
     assert list(ds["status"].values) == ["ok"] * 6
+    assert list(ds["message"].values) == [""] * 6  # every array fit the planned layout
     assert list(ds["crack_fraction"].values) == [0.0] * 3 + [0.3] * 3
     assert ds["channels.ring_acc"].shape == (6, 600)
     assert ds["state.speed"].dims == ("case", "state_time", "shaft")

@@ -210,6 +210,7 @@ def run(
         todo = [i for i, s in enumerate(status) if i in wanted
                 and (s == store.PENDING or i in damaged
                      or (retry_failed and s == STATUS_FAILED))]
+        store.mark_pending(out, [i for i in todo if status[i] != store.PENDING])
         prog = SweepProgress(total=len(sweep.cases), skipped=len(sweep.cases) - len(todo),
                              started=time.perf_counter())
         if progress is not None:

@@ -164,9 +164,14 @@ def open_store(path: str | Path) -> xr.Dataset:
         ds = _open(p)
     except (OSError, ValueError, KeyError) as exc:
         raise InputError(f"'{p}' is not a readable Zarr store: {exc}") from None
-    if ds.attrs.get("geardyn_layout") != LAYOUT:
+    layout = ds.attrs.get("geardyn_layout")
+    if layout == "geardyn.sweep/1":
+        raise InputError(f"'{p}' is a sweep store of an older geardyn (layout {layout!r}: "
+                         "channels sized by the first case written; no checksums); give a new "
+                         "--out to run the sweep again")
+    if layout != LAYOUT:
         raise InputError(f"'{p}' is not a geardyn sweep store (layout "
-                         f"{ds.attrs.get('geardyn_layout')!r}, expected {LAYOUT!r})")
+                         f"{layout!r}, expected {LAYOUT!r})")
     return ds
 
 
@@ -301,46 +306,66 @@ class Writer:
         self.group["status"][index] = str(result["status"])
 
 
-def _read_row(group: Any, name: str, index: int, text: bool) -> Any:
-    v = group[name][index]
-    return np.asarray(v, dtype=object) if text else np.asarray(v, dtype=float)
+def mark_pending(path: str | Path, cases: list[int]) -> None:
+    """Set ``cases`` pending (damaged ones, or failed ones run again) before they run: a case
+    being rewritten never carries an old status."""
+    if not cases:
+        return
+    import zarr
+
+    group = zarr.open_group(str(Path(path)), mode="r+")
+    for i in cases:
+        group["status"][i] = PENDING
+
+
+#: Cases read together by :func:`verify` (zarr fetches their chunks concurrently).
+VERIFY_BATCH = 32
 
 
 def verify(path: str | Path, cases: list[int] | None = None) -> dict[int, str]:
     """Cases whose stored data no longer match their checksum (a deleted or damaged chunk):
     case index → what is wrong. Only cases with a status are checked (pending ones have
-    nothing to check); a status chunk that cannot be read counts as damaged."""
+    nothing to check); a status chunk that cannot be read counts as damaged. Cases are read
+    :data:`VERIFY_BATCH` at a time, case by case where a batch does not decode."""
     import zarr
 
     p = Path(path)
     ds = _open(p)
-    variables = json.loads(ds.attrs["case_variables"])
-    text = set(json.loads(ds.attrs["case_text_variables"])) | {"message"}
+    variables = [*json.loads(ds.attrs["case_variables"]), *CASE_META, "checksum"]
+    text = set(json.loads(ds.attrs["case_text_variables"])) | {"message", "checksum"}
     group = zarr.open_group(str(p), mode="r")
     status, unreadable = _statuses(group, ds.sizes["case"])
     damaged = {i: f"status unreadable ({e})" for i, e in unreadable.items()}
-    todo = range(ds.sizes["case"]) if cases is None else cases
-    for i in todo:
-        if i in damaged or status[i] == PENDING:
-            continue
-        rows: dict[str, tuple[Any, bool]] = {}
-        bad = ""
-        for name in [*variables, *CASE_META]:
+    todo = [i for i in (range(ds.sizes["case"]) if cases is None else cases)
+            if i not in damaged and status[i] != PENDING]
+    for start in range(0, len(todo), VERIFY_BATCH):
+        batch = todo[start:start + VERIFY_BATCH]
+        lo, hi = batch[0], batch[-1] + 1
+        rows: dict[int, dict[str, tuple[Any, bool]]] = {i: {} for i in batch}
+        for name in variables:
+            is_text = name in text
             try:
-                rows[name] = (_read_row(group, name, i, name in text), name in text)
-            except Exception as exc:  # noqa: BLE001 - any decoding error is damage
-                bad = f"'{name}' unreadable ({type(exc).__name__}: {exc})"
-                break
-        if not bad:
-            try:
-                stored = str(group["checksum"][i])
-            except Exception as exc:  # noqa: BLE001
-                stored, bad = "", f"'checksum' unreadable ({type(exc).__name__})"
-            if not bad and stored != case_checksum(rows):
-                bad = ("checksum mismatch: a chunk of the case was deleted or changed"
-                       if stored else "no checksum (written without one, or its chunk lost)")
-        if bad:
-            damaged[i] = bad
+                block = group[name][lo:hi]
+                values = {i: block[i - lo] for i in batch}
+            except Exception:  # noqa: BLE001 - a damaged chunk in the batch: case by case
+                values = {}
+                for i in batch:
+                    if i in damaged:
+                        continue
+                    try:
+                        values[i] = group[name][i]
+                    except Exception as exc:  # noqa: BLE001 - any decoding error is damage
+                        damaged[i] = f"'{name}' unreadable ({type(exc).__name__}: {exc})"
+            for i, v in values.items():
+                rows[i][name] = (np.asarray(v, dtype=object) if is_text
+                                 else np.asarray(v, dtype=float), is_text)
+        for i in batch:
+            if i in damaged:
+                continue
+            stored = str(rows[i].pop("checksum")[0])
+            if stored != case_checksum(rows[i]):
+                damaged[i] = ("checksum mismatch: a chunk of the case was deleted or changed"
+                              if stored else "no checksum (its chunk lost)")
     return damaged
 
 
