@@ -7,6 +7,7 @@ in use by another driver; 130 Ctrl-C (the store keeps every finished case)."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import typer
@@ -83,8 +84,11 @@ def sweep_cmd(
                         f"{p.left}", rate=_rate(p))
 
         try:
-            summary = run(sweep, out, scheduler=scheduler, n_workers=workers,
-                          retry_failed=retry_failed, progress=progress)
+            with warnings.catch_warnings():
+                warnings.simplefilter("always")
+                warnings.showwarning = _show_warning
+                summary = run(sweep, out, scheduler=scheduler, n_workers=workers,
+                              retry_failed=retry_failed, progress=progress)
         except KeyboardInterrupt:
             prog.stop()
             if out.exists():
@@ -107,6 +111,13 @@ def sweep_cmd(
         console.print(f"{summary.failed_total} of {summary.total} case(s) failed (see the "
                       "store's 'message'); --retry-failed runs them again", highlight=False)
         raise typer.Exit(1)
+
+
+def _show_warning(message, category, *args, **kwargs) -> None:  # noqa: ANN001, ANN002, ANN003, ARG001
+    """A warning during the run as one line (no source line), e.g. a stale lock taken over."""
+    from rich.markup import escape
+
+    console.print(f"[bold yellow]warning:[/] {escape(str(message))}", highlight=False)
 
 
 def _check(sweep) -> None:  # noqa: ANN001 - Sweep

@@ -17,6 +17,7 @@ import os
 import signal
 import time
 import uuid
+import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -201,9 +202,13 @@ def run(
             store.check_same_sweep(out, sweep)
             damaged = store.verify(out)
         else:
+            from geardyn.solve.sanity import TimeStepWarning
             from geardyn.sweep.layout import plan
 
-            if not store.create(out, sweep, plan(sweep)):
+            layout = plan(sweep)
+            for note in layout.notes:
+                warnings.warn(note, TimeStepWarning, stacklevel=2)
+            if not store.create(out, sweep, layout):
                 store.check_same_sweep(out, sweep)
         status = store.statuses(out)
         wanted = set(range(len(sweep.cases)) if cases is None else cases)
