@@ -325,3 +325,32 @@ values = [1e-4, 2e-2]
     r = CliRunner().invoke(app, ["sweep", str(short), "--out", str(out), "--check"])
     assert r.exit_code == 0, r.output
     assert "fewer than 4 whole own revolutions" in r.output.replace("\n", " ")
+
+
+def test_check_refuses_an_unstable_fe_time_step(tmp_path: Path) -> None:
+    """FE transmission: a time step above the explicit stability limit 2/ω_max of the
+    prepared model is refused by --check, naming the field and the case."""
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    spec = tmp_path / "fe.toml"
+    spec.write_text(f"""
+[sweep]
+base = "{ROOT / 'examples' / 'seed002_diagnose_spall.toml'}"
+[run]
+revolutions = 3.0
+[[axes]]
+name = "dt"
+path = "transmission.simulation.time_step_s"
+values = [1e-7, 1e-3]
+[outputs.indicators]
+enabled = false
+""")
+    r = CliRunner().invoke(app, ["sweep", str(spec), "--out", str(tmp_path / "fe.zarr"),
+                                 "--check"])
+    assert r.exit_code == 2, r.output
+    text = r.output.replace("\n", " ")
+    assert "[dt (2); product, 1 replicate(s)]" in text
+    assert "case 1 (dt = 0.001): transmission.simulation.time_step_s" in text
+    assert "stability limit" in text and "case 0" not in text

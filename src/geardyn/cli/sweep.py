@@ -65,9 +65,11 @@ def sweep_cmd(
     if scheduler is not None and not check:
         check_scheduler(scheduler)
     axes = ", ".join(f"{a.name} ({len(a.values)})" for a in sweep.axes)
-    console.print(f"sweep {sweep.spec.sweep.name or spec.name}: {len(sweep.cases)} cases "
-                  f"[{axes}; {sweep.spec.sweep.combine}, {sweep.spec.sweep.replicates} "
-                  "replicate(s)]", highlight=False)
+    from rich.markup import escape
+
+    console.print(escape(f"sweep {sweep.spec.sweep.name or spec.name}: {len(sweep.cases)} "
+                         f"cases [{axes}; {sweep.spec.sweep.combine}, "
+                         f"{sweep.spec.sweep.replicates} replicate(s)]"), highlight=False)
     if verify:
         _verify(out, sweep)
         return

@@ -13,8 +13,9 @@ every per-case variable of the store with its dimensions, sizes, labels and unit
   indicator geardyn computes (:data:`geardyn.diagnosis.explain.INDICATORS`), ``block`` the
   configured number of blocks.
 
-The same pass runs the checks a case would otherwise fail at run time (the planetary time
-step against the model's shortest natural period and mesh period,
+The same pass runs the checks a case would otherwise fail at run time (the time step:
+planetary, against the model's shortest natural period and mesh period; FE transmission,
+against the explicit stability limit and the mesh period —
 :func:`geardyn.solve.sanity.check_time_step`; channel kinds) and predicts, from each case's
 nominal input speed, the own revolutions of every component in the analysed record
 (:func:`short_cases`): ``geardyn sweep --check`` reports both and nothing runs.
@@ -79,8 +80,8 @@ def _distinct(sweep: Sweep) -> list[tuple[int, dict[str, Any]]]:
 
 
 def _without_faults(data: dict[str, Any]) -> dict[str, Any]:
-    """The config dict with its tooth faults removed (as :func:`geardyn.diagnosis.faults.
-    healthy_variant`): the key of the time-step check. A crack or spall only lowers a mesh
+    """The config dict with its faults removed (as :func:`geardyn.diagnosis.faults.
+    healthy_variant`): the key of the time-step check. A crack or spall only lowers a
     stiffness, so the healthy model's natural periods are the shortest and its check the
     strictest; one check serves every fault of a machine and speed."""
     out = json.loads(json.dumps(data, default=str))
@@ -89,6 +90,8 @@ def _without_faults(data: dict[str, Any]) -> dict[str, Any]:
     for entry in out.get("gear_geometry", []) or []:
         entry["cracks"] = []
         entry["spalls"] = []
+    for bearing in (out.get("transmission") or {}).get("bearings", []) or []:
+        bearing["outer_spall"] = None
     return out
 
 
@@ -124,6 +127,50 @@ def _planetary_checks(cfg: Any, t_end: float) -> tuple[list[str], list[str], lis
                         mesh_period(p.system, _planetary_speeds(cfg, p)))
     notes = [str(w.message) for w in caught if "time step" in str(w.message)]
     return notes, shafts, meshes
+
+
+def _transmission_checks(cfg: Any, data: dict[str, Any], cache: dict[str, float]
+                         ) -> list[str]:
+    """Run-time time-step check of an FE transmission case (as
+    :func:`geardyn.models.transmission.simulate.simulate` with ``check_step``): the step
+    against the explicit stability limit 2/ω_max and the mesh period at the speed law's
+    largest speed. The stability limit needs the prepared model (static equilibrium, modes;
+    seconds): computed once per machine (``cache``, keyed by the config without its speed
+    law and simulation settings). Returns the coarse-step warnings."""
+    from geardyn.models.transmission.assembly import build_model
+    from geardyn.models.transmission.simulate import (
+        _mesh_period,
+        damping_operator,
+        prepare,
+        speed_ratios,
+        with_mass,
+    )
+    from geardyn.solve.sanity import check_time_step
+
+    t = cfg.transmission
+    sl = t.speed_law
+    if sl is None and (t.simulation.duration_s is None or t.simulation.initial_rpm is None):
+        return []  # refused by the run itself with its own message (InputError)
+    ref = sl.reference.shaft if sl is not None else t.drive.at.shaft
+    model = with_mass(build_model(cfg), t)
+    machine = json.loads(json.dumps(data, default=str))
+    machine["transmission"].pop("speed_law", None)
+    machine["transmission"].pop("simulation", None)
+    key = json.dumps(machine, sort_keys=True)
+    if key not in cache:
+        _, cache[key] = damping_operator(prepare(model, ref),
+                                         getattr(t, "modal_damping_cutoff_hz", None))
+    dt_limit = cache[key]
+    rpm = (max(abs(sl.start_rpm), abs(sl.end_rpm)) if sl is not None
+           else abs(t.simulation.initial_rpm))
+    dt = t.simulation.time_step_s or 0.8 * dt_limit
+    field_name = ("transmission.simulation.time_step_s" if t.simulation.time_step_s
+                  else "transmission.simulation.time_step_s (default: 0.8 × stability limit)")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_time_step(dt, field_name, mesh_period_s=_mesh_period(
+            model, speed_ratios(model, ref), rpm * math.pi / 30), stable_limit_s=dt_limit)
+    return [str(w.message) for w in caught if "time step" in str(w.message)]
 
 
 def _indicator_names() -> list[str]:
@@ -219,12 +266,23 @@ def plan(sweep: Sweep) -> Layout:
     channel = ""
     domains: set[str] = set()
     checked: dict[str, str | None] = {}
+    fe_cache: dict[str, float] = {}
     for index, data in _distinct(sweep):
         where = _where(sweep, index)
         cfg = parse_config(data, source=where)
         t_end = _t_end(sweep, cfg)
         if t_end is None:
             planetary_all = False
+            if getattr(cfg, "transmission", None) is not None \
+                    and getattr(cfg, "planetary_dynamics", None) is None:
+                try:
+                    healthy = _without_faults(data)
+                    notes = _transmission_checks(parse_config(healthy, source=where),
+                                                 healthy, fe_cache)
+                except GeardynError as exc:
+                    problems.append(f"{where}: {exc}")
+                    continue
+                out.notes.extend(f"{where}: {n}" for n in notes)
         else:
             longest = max(longest, t_end)
             healthy = _without_faults(data)
