@@ -80,6 +80,9 @@ def _create(path: Path, info: dict[str, Any]) -> bool:
         fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
     except FileExistsError:
         return False
+    except OSError as exc:
+        raise InputError(f"--out: cannot create the lock file '{path}': "
+                         f"{exc.strerror or exc}") from None
     with os.fdopen(fd, "w") as f:
         json.dump(info, f)
         f.flush()
