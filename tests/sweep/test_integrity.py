@@ -259,8 +259,9 @@ def test_chaos_kills_driver_and_worker(reference: Path, spec_path: Path, cluster
             os.killpg(proc.pid, signal.SIGKILL)
         proc.communicate(timeout=60)
         at_kill.append(_stored(out))  # readable after every kill
-    # killed mid-sweep at least twice (cases may finish in pairs on two workers)
-    assert at_kill == sorted(at_kill) and at_kill[0] >= 1 and at_kill[1] < 4, at_kill
+    # killed mid-sweep (cases may finish in pairs on two workers: later kills may land after
+    # the last case, while the driver writes the verdicts or closes the cluster)
+    assert at_kill == sorted(at_kill) and 1 <= at_kill[0] < 4, at_kill
     cluster.wait_for_workers(2, timeout=120)
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
     assert r.returncode == 0, r.stdout + r.stderr
