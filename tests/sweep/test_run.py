@@ -168,9 +168,12 @@ def test_case_is_reproducible_alone(reference: Path, spec_path: Path) -> None:
     from geardyn.diagnosis.isolation import isolation_blocks, order_stats
 
     blocks = isolation_blocks(res, parse_config(sw.case_config(case)), "ring_acc")
-    st = order_stats(blocks.domains[blocks.of["sun"]])
+    key = blocks.of["sun"]
+    st = order_stats(blocks.domains[key], blocks.top.get(key))
     row = ds.sel(domain="sun").isel(case=4)
     k = st.mean.size
+    mask = blocks.ambiguous[key]
+    np.testing.assert_array_equal(row["isolation.ambiguous"].values[:mask.size], mask)
     np.testing.assert_array_equal(row["isolation.mean_real"].values[:k], st.mean.real)
     np.testing.assert_array_equal(row["isolation.mean_imag"].values[:k], st.mean.imag)
     np.testing.assert_array_equal(row["isolation.variance"].values[:k], st.var)
@@ -282,20 +285,50 @@ def test_verdicts_against_hand_thresholds(reference: Path) -> None:
         th = mu + 3.0 * np.maximum(cn * s, 0.05 * np.abs(mu))
         margin = float(np.max(v[i] / th))
         assert float(ds["margin"].sel(component="sun")[i]) == pytest.approx(margin, rel=1e-12)
-        # the only judgeable component: detected → localised to it by its coherent SDR
-        # (the 30 % sun crack repeats with the sun shaft), else healthy
-        state = "alarm" if margin > 1 else "healthy"
-        assert ds["verdict"].sel(component="sun").values[i] == state
-        assert ds["verdict_state"].values[i] == state
-        assert ds["location"].values[i] == ("sun" if margin > 1 else "")
-    assert list(ds["verdict_state"].values) == ["healthy"] * 3 + ["alarm"] * 3
-    np.testing.assert_array_equal(ds["location_confidence"].values[3:], 1.0)
+        # the only judgeable component: a detection is localised to it (alarm) or uncertain,
+        # never healthy (the isolation evidence itself: test_isolation_evidence_as_diagnose)
+        states = ("alarm", "uncertain") if margin > 1 else ("healthy",)
+        assert ds["verdict"].sel(component="sun").values[i] in states
+        assert ds["verdict_state"].values[i] == ds["verdict"].sel(component="sun").values[i]
+        assert ds["location"].values[i] == ("sun" if ds["verdict_state"].values[i] == "alarm"
+                                            else "")
+    assert list(ds["verdict_state"].values[:3]) == ["healthy"] * 3
+    assert all(s in ("alarm", "uncertain") for s in ds["verdict_state"].values[3:])
     # components with fewer than 4 whole own revolutions are not judged (issue 18 part 7)
     assert (ds["revolutions"].sel(component="carrier") < 4).all()
     assert (ds["revolutions"].sel(component="sun") >= 4).all()
     assert set(ds["verdict"].sel(component="carrier").values) == {"unknown"}
     assert all("too short" in n and "carrier" in n for n in ds["verdict_note"].values)
     assert ds["location_confidence"].attrs["units"] == "1"
+
+
+def test_isolation_evidence_as_diagnose(reference: Path, spec_path: Path) -> None:
+    """The sweep's coherent-SDR evidence of case 4 (30 % sun crack) against the healthy cases
+    0-2, from the stored per-order statistics, equals geardyn.diagnosis.isolation.
+    sdr_evidence on the isolation blocks of the four runs simulated again."""
+    from scipy.stats import norm
+
+    from geardyn.config.loader import parse_config
+    from geardyn.diagnosis.isolation import isolation_blocks, sdr_evidence
+    from geardyn.run import run_simulation
+    from geardyn.sweep import load_spec
+    from geardyn.sweep.verdicts import _Isolation
+
+    sw = load_spec(spec_path)
+    blocks = []
+    for i in (0, 1, 2, 4):
+        cfg = parse_config(sw.case_config(sw.cases[i]))
+        res = run_simulation(cfg, seed=sw.cases[i].seed, t_end_s=8.0)
+        blocks.append(isolation_blocks(res, cfg, "ring_acc", skip_s=0.0))
+    alpha = float(norm.sf(3.0))
+    want = sdr_evidence(blocks[:3], blocks[3], alpha)
+    got = _Isolation(open_dataset(reference)).evidence(4, [0, 1, 2], alpha, set())
+    assert sorted(got) == sorted(want) and want, (sorted(got), sorted(want))
+    for c, ev in want.items():
+        for f in ("value", "threshold", "z", "mean", "std"):
+            assert getattr(got[c], f) == pytest.approx(getattr(ev, f), rel=1e-12, nan_ok=True), \
+                (c, f)
+        assert got[c].measure == ev.measure
 
 
 def test_cli_bad_spec_and_check(tmp_path: Path, spec_path: Path) -> None:

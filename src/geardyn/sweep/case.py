@@ -151,9 +151,12 @@ def _judgeable(feats: Any) -> dict[str, Any]:
 def _isolation(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
     """Per-order synchronous statistics (:func:`geardyn.diagnosis.isolation.order_stats`: the
     mean revolution's spectrum and the revolutions' variance per order) of every own-angle,
-    transmission-error and planet-separated domain of the channel: all the coherent
-    synchronous deviation ratio needs (:func:`~geardyn.diagnosis.isolation.coherent_sdr`),
-    so that the sweep's verdicts weigh the same isolation evidence as ``geardyn diagnose``.
+    transmission-error and planet-separated domain of the channel, over the orders the domain
+    compares (``top``), and its orders left out as ambiguous (another member's harmonic
+    within the TSA's resolution, :func:`~geardyn.diagnosis.isolation.ambiguous_orders`; 1 =
+    left out): all the coherent synchronous deviation ratio needs
+    (:func:`~geardyn.diagnosis.isolation.coherent_sdr`), so that the sweep's verdicts weigh
+    the same isolation evidence as ``geardyn diagnose``.
     A domain is labelled by its components (:func:`geardyn.sweep.layout.domain_labels`)."""
     from geardyn.diagnosis.isolation import isolation_blocks, order_stats
     from geardyn.diagnosis.pipeline import options
@@ -169,23 +172,27 @@ def _isolation(ds: Any, cfg: Any, opts: dict[str, Any]) -> dict[str, Any]:
     labels = {key: "+".join(sorted(cs)) for key, cs in groups.items()}
     labels.update({key: f"TE:{w}" for w, key in b.of_te.items()})
     labels.update({key: f"planet:{p}" for p, key in b.of_planet.items()})
-    names, stats = [], []
+    names, stats, masks = [], [], []
     for key, rows in b.domains.items():
         if key in labels and rows.shape[0] >= 2:
             names.append(labels[key])
-            stats.append(order_stats(rows))
+            stats.append(order_stats(rows, b.top.get(key)))
+            masks.append(b.ambiguous.get(key))
     if not names:
         return {}
     k = max(st.mean.size for st in stats)
-    re_, im_, var = (np.full((len(names), k), np.nan) for _ in range(3))
+    re_, im_, var, amb = (np.full((len(names), k), np.nan) for _ in range(4))
     for j, st in enumerate(stats):
         re_[j, :st.mean.size] = st.mean.real
         im_[j, :st.mean.size] = st.mean.imag
         var[j, :st.var.size] = st.var
+        if masks[j] is not None:
+            amb[j, :masks[j].size] = masks[j]
     dims, cds = ["domain", "order"], {"domain": names}
     return {"isolation.mean_real": (re_, {}, dims, cds),
             "isolation.mean_imag": (im_, {}, dims, cds),
             "isolation.variance": (var, {}, dims, cds),
+            "isolation.ambiguous": (amb, {}, dims, cds),
             "isolation.revolutions": (np.array([float(st.n) for st in stats]), {}, ["domain"],
                                       cds)}
 

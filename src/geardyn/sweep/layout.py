@@ -189,9 +189,15 @@ def _components(cfg: Any, ref: str | None) -> list[tuple[str, str, float]]:
     return [(c.name, c.kind, float(c.abs_ratio)) for c in comps.items]
 
 
-#: Orders kept of each domain's per-order statistics: half the largest samples per revolution
-#: of :func:`geardyn.diagnosis.isolation.isolation_blocks` (32768), plus order 0.
-ISOLATION_ORDERS = 32768 // 2 + 1
+def isolation_orders() -> int:
+    """Orders kept of each domain's per-order statistics: half the largest samples per
+    revolution of :func:`geardyn.diagnosis.isolation.isolation_blocks`, plus order 0."""
+    import inspect
+
+    from geardyn.diagnosis.isolation import isolation_blocks
+
+    spr = inspect.signature(isolation_blocks).parameters["max_samples_per_rev"].default
+    return int(spr) // 2 + 1
 
 
 def domain_labels(cfg: Any, ref: str | None, channel: str | None) -> list[str]:
@@ -374,7 +380,7 @@ def plan(sweep: Sweep) -> Layout:
                 "long_name": "isolation domain: components sharing an own angle ('+'), the "
                              "transmission error of a wheel's mesh (TE:), a planet's "
                              "separated rows (planet:)"})
-            out.sizes["order"] = ISOLATION_ORDERS
+            out.sizes["order"] = isolation_orders()
             o_dims = ("domain", "order")
             u = _sensor_units(sweep.base, channel)
             out.variables["isolation.mean_real"] = Variable(o_dims, {
@@ -386,6 +392,10 @@ def plan(sweep: Sweep) -> Layout:
             out.variables["isolation.variance"] = Variable(o_dims, {
                 "units": f"({u})^2", "long_name": "variance of the revolutions' spectra per "
                 "order (ddof = 1)"})
+            out.variables["isolation.ambiguous"] = Variable(o_dims, {
+                "units": "1", "long_name": "1: order left out of the comparison (another "
+                "member's harmonic within the TSA's resolution, geardyn.diagnosis.isolation."
+                "ambiguous_orders); 0 compared; NaN none given"})
             out.variables["isolation.revolutions"] = Variable(("domain",), {
                 "units": "1", "long_name": "whole own revolutions of the domain (NaN: fewer "
                 "than 2)"})

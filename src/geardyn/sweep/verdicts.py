@@ -99,6 +99,7 @@ class _Isolation:
         self._null: dict[tuple, list[float]] = {}
 
     def stats(self, i: int) -> list[Any]:
+        """(OrderStats or None, ambiguous-order mask or None) of every domain of case ``i``."""
         from geardyn.diagnosis.isolation import OrderStats
 
         if i not in self._stats:
@@ -106,24 +107,36 @@ class _Isolation:
             re_ = np.asarray(row["isolation.mean_real"].values, float)
             im_ = np.asarray(row["isolation.mean_imag"].values, float)
             var = np.asarray(row["isolation.variance"].values, float)
+            amb = (np.asarray(row["isolation.ambiguous"].values, float)
+                   if "isolation.ambiguous" in row else np.full(re_.shape, np.nan))
             n = np.asarray(row["isolation.revolutions"].values, float)
             out: list[Any] = []
             for d in range(len(self.labels)):
                 k = int(np.count_nonzero(np.isfinite(re_[d])))
-                out.append(OrderStats(re_[d, :k] + 1j * im_[d, :k], var[d, :k], int(n[d]))
-                           if np.isfinite(n[d]) and n[d] >= 2 and k > 1 else None)
+                m = int(np.count_nonzero(np.isfinite(amb[d])))
+                st = (OrderStats(re_[d, :k] + 1j * im_[d, :k], var[d, :k], int(n[d]))
+                      if np.isfinite(n[d]) and n[d] >= 2 and k > 1 else None)
+                out.append((st, amb[d, :m] > 0.5 if m else None))
             self._stats[i] = out
         return self._stats[i]
 
     def evidence(self, i: int, base: list[int], alpha: float, skip: set[str]
                  ) -> dict[str, Any]:
         """cSDR (own angle), cSDR_TE (a wheel's mesh; replaces its own-angle evidence) and
-        cSDR_planet evidence of case ``i`` against the baseline cases ``base``
-        (:func:`geardyn.diagnosis.isolation.sdr_evidence` on stored statistics); components
-        in ``skip`` (too short) get none."""
+        cSDR_planet evidence (with the deviation power that names a planet) of case ``i``
+        against the baseline cases ``base``, as :func:`geardyn.diagnosis.isolation.
+        sdr_evidence` on the stored statistics: the record's ambiguous orders left out of
+        every record; components in ``skip`` (too short) get none. (Planet-separated
+        statistics come from every row of each case, not from the rows every case has:
+        equal for cases of one run length.)"""
         from dataclasses import replace
 
-        from geardyn.diagnosis.isolation import coherent_sdr, evidence_from_null
+        from geardyn.diagnosis.isolation import (
+            _without,
+            coherent_sdr,
+            deviation_power,
+            evidence_from_null,
+        )
 
         if len(base) < 2:
             return {}
@@ -134,21 +147,25 @@ class _Isolation:
                        key=lambda d: self.labels[d].startswith(("TE:", "planet:")))
         for d in order:
             label = self.labels[d]
-            b = [s[d] for s in bases]
-            if rec[d] is None or any(x is None for x in b):
+            r, mask = rec[d]
+            b = [s[d][0] for s in bases]
+            if r is None or any(x is None for x in b):
                 continue
-            key = (d, tuple(base))
+            if mask is not None:
+                r, b = _without(r, mask), [_without(x, mask) for x in b]
+            key = (d, tuple(base), b"" if mask is None else np.packbits(mask).tobytes())
             if key not in self._null:
                 self._null[key] = [coherent_sdr(x, [y for k, y in enumerate(b) if k != m])
                                    for m, x in enumerate(b)]
             measure = ("cSDR_TE" if label.startswith("TE:") else "cSDR_planet"
                        if label.startswith("planet:") else "cSDR")
-            ev = evidence_from_null("", measure, coherent_sdr(rec[d], b), self._null[key],
+            ev = evidence_from_null("", measure, coherent_sdr(r, b), self._null[key],
                                     alpha, group=label)
             if measure == "cSDR_planet":
                 p = label.split(":", 1)[1]
                 if p not in skip:
-                    out[f"{p}#planet"] = replace(ev, component=p)
+                    power, dof = deviation_power(r, b)
+                    out[f"{p}#planet"] = replace(ev, component=p, power=power, dof=dof)
                 continue
             members = [label.split(":", 1)[1]] if measure == "cSDR_TE" else label.split("+")
             for c in members:
