@@ -177,8 +177,12 @@ def run(
 ) -> SweepSummary:
     """Run the sweep ``spec`` (a spec file or a :class:`Sweep`) into the Zarr store ``out``.
 
-    Cases already stored are skipped (``retry_failed``: run ``failed`` ones again); the spec
-    must be the one that made the store. ``client``: an existing ``distributed.Client``;
+    The store is locked for the run (a second driver: InputError naming the first). A new
+    store gets its whole layout from the spec and the cases' configs after the run-time checks
+    (:func:`geardyn.sweep.layout.plan`; ConfigError naming the case). In an existing one,
+    cases already stored whose data match their checksums are skipped, damaged ones run again
+    (``SweepSummary.damaged``), ``failed`` ones only with ``retry_failed``; the spec must be
+    the one that made the store. Verdicts (when the spec asks) are computed again at the end. ``client``: an existing ``distributed.Client``;
     else ``scheduler`` (address of a running scheduler) or a LocalCluster of ``n_workers``
     processes. ``overrides`` are merged into the spec file's tables (see
     :func:`geardyn.sweep.spec.load_spec`). ``cases``: run only these case indices (the
