@@ -182,7 +182,8 @@ def run(
     (:func:`geardyn.sweep.layout.plan`; ConfigError naming the case). In an existing one,
     cases already stored whose data match their checksums are skipped, damaged ones run again
     (``SweepSummary.damaged``), ``failed`` ones only with ``retry_failed``; the spec must be
-    the one that made the store. Verdicts (when the spec asks) are computed again at the end. ``client``: an existing ``distributed.Client``;
+    the one that made the store. Verdicts (when the spec asks) are computed again at the end.
+    ``client``: an existing ``distributed.Client``;
     else ``scheduler`` (address of a running scheduler) or a LocalCluster of ``n_workers``
     processes. ``overrides`` are merged into the spec file's tables (see
     :func:`geardyn.sweep.spec.load_spec`). ``cases``: run only these case indices (the
