@@ -287,8 +287,10 @@ def test_failed_cases_exit_non_zero_and_are_not_rerun(spec_path: Path, tmp_path:
 
     monkeypatch.setattr(geardyn.run, "run_simulation", broken)
     out = tmp_path / "failed.zarr"
-    with Client(processes=False, n_workers=1, threads_per_worker=1,
-                dashboard_address=":0") as client:
+    # an in-process cluster (the patched model runs in its worker thread) on tcp: --scheduler
+    # takes network addresses only
+    with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=":0",
+                protocol="tcp") as client:
         cmd = ["sweep", str(spec_path), "--out", str(out), "--scheduler",
                client.scheduler.address]
         r = CliRunner().invoke(app, cmd)
