@@ -325,6 +325,8 @@ values = [1e-4, 2e-2]
     assert "planetary_dynamics.simulation.dt_s" in r.output and "dt = 0.02" in r.output
     r = CliRunner().invoke(app, ["sweep", str(bad), "--out", str(out)])
     assert r.exit_code == 2 and not out.exists(), r.output
+    r = CliRunner().invoke(app, ["sweep", str(bad), "--out", str(out), "--verify"])
+    assert r.exit_code == 2 and "--out" in r.output and "does not exist" in r.output, r.output
     short = tmp_path / "short.toml"
     short.write_text(SPEC.replace("enabled = false", "enabled = true\nskip_s = 0.0"))
     r = CliRunner().invoke(app, ["sweep", str(short), "--out", str(out), "--check"])
