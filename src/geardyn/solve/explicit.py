@@ -181,9 +181,13 @@ def linear_args(K: np.ndarray, C: np.ndarray | ModalDamping) -> tuple[tuple, tup
     a :class:`ModalDamping`: sparse + low rank, no dense C."""
     K = np.asarray(K, dtype=float)
     n = K.shape[0]
+    # non-symmetric K or C (cross-coupled supports): the row passes below read columns, so
+    # they get the transposes (symmetric matrices are passed as they are: the same bits)
     if isinstance(C, ModalDamping):
         S = np.asarray(C.stiffness, dtype=float)
-        rows, cols = np.nonzero((K != 0.0) | (S != 0.0))
+        if not (np.array_equal(K, K.T) and np.array_equal(S, S.T)):
+            K, S = K.T.copy(), S.T.copy()
+        rows, cols = np.nonzero((K != 0.0) | (S != 0.0) | (K.T != 0.0) | (S.T != 0.0))
         bdat = S[rows, cols].copy()
         B = np.ascontiguousarray(C.basis, dtype=float)
         BT, w, Cd = np.ascontiguousarray(B.T), np.asarray(C.weights, float), np.zeros((0, 0))
@@ -191,7 +195,8 @@ def linear_args(K: np.ndarray, C: np.ndarray | ModalDamping) -> tuple[tuple, tup
         rows, cols = np.nonzero(K)
         bdat = np.zeros(0)
         B, BT, w = np.zeros((n, 0)), np.zeros((0, n)), np.zeros(0)
-        Cd = np.ascontiguousarray(C, dtype=float)
+        C = np.asarray(C, dtype=float)
+        Cd = np.ascontiguousarray(C if np.array_equal(C, C.T) else C.T)
     # CSC: column j lists the rows i of its entries (np.nonzero is row-major: sort by column)
     o = np.lexsort((rows, cols))
     rows, cols = rows[o], cols[o]

@@ -107,9 +107,18 @@ def prepare(model: TransmissionModel, reference_shaft: str | None = None) -> Pre
     with single_thread_blas():
         q0 = static_equilibrium(model, model.load_torque)
         K_lin = model.K + connecting_jacobian(model, q0)
-        f, _ = modal_analysis(model.M, K_lin)
-        C = modal_damping_matrix(model.M, K_lin, model.modal_damping)
-        dt = explicit.stable_time_step(model.M, K_lin)
+        K_sym = K_lin if model.C_lin is None else 0.5 * (K_lin + K_lin.T)
+        f, phi = modal_analysis(model.M, K_sym)
+        C = modal_damping_matrix(model.M, K_sym, model.modal_damping)
+        dt = explicit.stable_time_step(model.M, K_sym)
+        if model.C_lin is not None:
+            # supports and dashpots: their damping adds to the modal one; the explicit limit
+            # of the highest modes with their damping ratio ξ = φᵀ C φ / (2ω) (mass-normalised
+            # φ, :func:`geardyn.solve.explicit.damped_step_limit`)
+            C = C + model.C_lin
+            w = 2 * math.pi * f[-4:]
+            xi = np.einsum("ij,ik,kj->j", phi[:, -4:], C, phi[:, -4:]) / (2 * w)
+            dt *= 0.5 * explicit.damped_step_limit(float(max(0.0, xi.max())))
     ref = reference_shaft or next(iter(model.shaft_nodes))
     return Prepared(model, q0, K_lin, C, f, dt, speed_ratios(model, ref))
 
@@ -133,8 +142,12 @@ def damping_operator(prep: Prepared, cutoff_hz: float | None
             f"{m.modal_damping * elastic[-1] / cutoff_hz:.3g} on the highest, and the damped "
             "explicit step would shrink accordingly; choose a cutoff above the modes of "
             "interest (e.g. 2-4 kHz for seed 002)")
-    op = explicit.modal_damping(m.M, prep.K_lin, m.modal_damping, cutoff_hz)
+    op = explicit.modal_damping(m.M, 0.5 * (prep.K_lin + prep.K_lin.T), m.modal_damping,
+                                cutoff_hz)
     xi = float(op.ratios[-1])
+    if m.C_lin is not None:  # supports and dashpots: in the sparse part
+        op = op._replace(stiffness=np.asarray(op.stiffness) + m.C_lin)
+        return op, prep.dt_stable * 0.5 * explicit.damped_step_limit(xi)
     return op, prep.dt_stable * 0.5 * explicit.damped_step_limit(xi)
 
 
@@ -217,7 +230,9 @@ def simulate(
         kp = ki = 0.0
         t_drive0 = model.drive_torque
     shafts = list(model.shaft_nodes)
-    rec_dofs = np.array([6 * model.shaft_nodes[s][0] + 5 for s in shafts], dtype=np.int64)
+    extra, support_ix = recorded_dofs(model, t.simulation.record)
+    rec_dofs = np.array([6 * model.shaft_nodes[s][0] + 5 for s in shafts] + extra,
+                        dtype=np.int64)
     ref_node = model.node_of(ref_shaft, ref_local)
     Minv = np.linalg.inv(model.M)
     t1 = _time.perf_counter()
@@ -235,32 +250,7 @@ def simulate(
         xargs=load_args(model, t) if (t.unbalance or t.external_loads) else None,
     )
     t_run = _time.perf_counter() - t1
-    nd = len(shafts)
-    nb = model.bearings.node.size
-    time = rec[:, 0]
-    sign = np.array([model.shaft_sign[s] for s in shafts])
-    links = {sc.name: (sc.link or sc.name) for sc in t.shafts}
-    o_b = 2 + 2 * nd
-    ds = xr.Dataset(
-        {
-            "drive_torque": ("time", rec[:, 1], {"units": "N·m", "long_name": "drive torque"}),
-            **shaft_variables(time, shafts, rec[:, 2 : 2 + nd] * sign,
-                              rec[:, 2 + nd : 2 + 2 * nd] * sign),
-            "bearing_load": (("time", "bearing"), rec[:, o_b : o_b + nb],
-                             {"units": "N", "long_name": "Σ rolling-element loads"}),
-            "bearing_force": (("time", "bearing", "axis"),
-                              # view of the x then y column blocks (no copy)
-                              rec[:, o_b + nb : o_b + 3 * nb].reshape(-1, 2, nb)
-                              .transpose(0, 2, 1),
-                              {"units": "N", "long_name": "force of the bearing on the housing"}),
-            "mesh_force": (("time", "mesh"), rec[:, o_b + 3 * nb :],
-                           {"units": "N", "long_name": "normal force, transverse LOA"}),
-        },
-        coords={"time": ("time", time, {"units": "s"}), "shaft": shafts,
-                "link": ("shaft", [links.get(s, s) for s in shafts]),
-                "bearing": model.bearings.names, "mesh": model.meshes.names,
-                "axis": ["x", "y"]},
-    )
+    ds = records_dataset(rec, model, t, shafts, len(extra), support_ix)
     names = ["input_J", "output_J", "bearing_viscous_J", "rolling_resistance_J",
              "gear_friction_J", "squeeze_film_J", "modal_damping_J", "external_loads_J"]
     ds.attrs.update({f"energy_{k}": float(e) for k, e in zip(names, energy, strict=True)})
@@ -293,6 +283,99 @@ def simulate(
             ds,
         )
     return ds
+
+
+def recorded_dofs(model: TransmissionModel, names: list[str]
+                  ) -> tuple[list[int], list[tuple[str, list[int]]]]:
+    """Global DOFs recorded besides the shaft angles for ``simulation.record``: a DOF name
+    (``{shaft}.n{i}.{x,y,z,rx,ry,rz}``), a disc name (its node's x, y) or a support name (its
+    node's x, y, θx, θy, for its force). Returns (DOFs in record order, per support its name
+    and the positions of its four DOFs in that list)."""
+    dof_names = model.dof_names
+    index = {n: i for i, n in enumerate(dof_names)}
+    supports = {s.name: s for s in model.supports}
+    dofs: list[int] = []
+
+    def add(j: int) -> int:
+        if j not in dofs:
+            dofs.append(j)
+        return dofs.index(j)
+
+    sup: list[tuple[str, list[int]]] = []
+    for i, name in enumerate(names):
+        if name in index:
+            add(index[name])
+        elif name in model.discs:
+            for k in (0, 1):
+                add(6 * model.discs[name] + k)
+        elif name in supports:
+            sup.append((name, [add(int(j)) for j in supports[name].dofs]))
+        else:
+            known = sorted([*model.discs, *supports])
+            raise ConfigError(
+                f"transmission.simulation.record[{i}]: '{name}' is no DOF "
+                "('{shaft}.n{i}.{x,y,z,rx,ry,rz}', e.g. " f"'{dof_names[0]}'), disc or support "
+                f"(discs and supports: {', '.join(known) or 'none'})")
+    return dofs, sup
+
+
+def records_dataset(rec: np.ndarray, model: TransmissionModel, t, shafts: list[str],  # noqa: ANN001
+                    n_extra: int, support_ix: list[tuple[str, list[int]]]) -> xr.Dataset:
+    """The run's Dataset from the record columns of :func:`geardyn.solve.explicit.run_chunk`
+    (``rec_dofs`` = the shafts' θz, then ``n_extra`` recorded DOFs): shaft angles and speeds,
+    bearings, meshes, recorded displacements/velocities and support forces."""
+    nd = len(shafts)
+    nr = nd + n_extra
+    nb = model.bearings.node.size
+    time = rec[:, 0]
+    sign = np.array([model.shaft_sign[s] for s in shafts])
+    links = {sc.name: (sc.link or sc.name) for sc in t.shafts}
+    o_b = 2 + 2 * nr
+    variables = {
+        "drive_torque": ("time", rec[:, 1], {"units": "N·m", "long_name": "drive torque"}),
+        **shaft_variables(time, shafts, rec[:, 2 : 2 + nd] * sign,
+                          rec[:, 2 + nr : 2 + nr + nd] * sign),
+        "bearing_load": (("time", "bearing"), rec[:, o_b : o_b + nb],
+                         {"units": "N", "long_name": "Σ rolling-element loads"}),
+        "bearing_force": (("time", "bearing", "axis"),
+                          # view of the x then y column blocks (no copy)
+                          rec[:, o_b + nb : o_b + 3 * nb].reshape(rec.shape[0], 2, nb)
+                          .transpose(0, 2, 1),
+                          {"units": "N", "long_name": "force of the bearing on the housing"}),
+        "mesh_force": (("time", "mesh"), rec[:, o_b + 3 * nb :],
+                       {"units": "N", "long_name": "normal force, transverse LOA"}),
+    }
+    coords = {"time": ("time", time, {"units": "s"}), "shaft": shafts,
+              "link": ("shaft", [links.get(s, s) for s in shafts]),
+              "bearing": model.bearings.names, "mesh": model.meshes.names,
+              "axis": ["x", "y"]}
+    if n_extra:
+        names = [model.dof_names[j] for j in _extra_dofs(t, model)]
+        units = ["m" if n.rsplit(".", 1)[1] in ("x", "y", "z") else "rad" for n in names]
+        q = rec[:, 2 + nd : 2 + nr]
+        v = rec[:, 2 + nr + nd : 2 + 2 * nr]
+        variables["displacement"] = (("time", "dof"), q, {
+            "units": "m (x, y, z), rad (rx, ry, rz)", "long_name": "recorded DOFs"})
+        variables["velocity"] = (("time", "dof"), v, {
+            "units": "m/s (x, y, z), rad/s (rx, ry, rz)", "long_name": "recorded DOF rates"})
+        coords["dof"] = names
+        coords["dof_units"] = ("dof", units)
+    if support_ix:
+        sup = {s.name: s for s in model.supports}
+        f = np.zeros((rec.shape[0], len(support_ix), 2))
+        for k, (name, ix) in enumerate(support_ix):
+            s = sup[name]
+            u = rec[:, 2 + nd + np.array(ix)]
+            ud = rec[:, 2 + nr + nd + np.array(ix)]
+            f[:, k, :] = (u @ s.K.T + ud @ s.C.T)[:, :2]
+        variables["support_force"] = (("time", "support", "axis"), f, {
+            "units": "N", "long_name": "force of the support on the housing, K u + C u̇"})
+        coords["support"] = [n for n, _ in support_ix]
+    return xr.Dataset(variables, coords=coords)
+
+
+def _extra_dofs(t, model: TransmissionModel) -> list[int]:  # noqa: ANN001
+    return recorded_dofs(model, t.simulation.record)[0]
 
 
 #: Largest translation of a node [m] before the run counts as diverged.
