@@ -130,9 +130,15 @@ def damping_operator(prep: Prepared, cutoff_hz: float | None
     :func:`geardyn.solve.explicit.modal_damping` (ratio ζ below the cutoff, ζ f/f_c above) and
     the loop's damped limit :func:`geardyn.solve.explicit.damped_step_limit` (ξ) / ω_max for
     the ratio ξ of the highest mode (it binds: ξ grows with ω)."""
+    m = prep.model
+    if cutoff_hz is None and m.modal_damping == 0.0:
+        # no modal damping: only the supports' and dashpots' (sparse), no dense n² product
+        n = m.ndof
+        S = m.C_lin if m.C_lin is not None else np.zeros((n, n))
+        return explicit.ModalDamping(S, np.zeros((n, 0)), np.zeros(0), np.zeros(n),
+                                     np.asarray(prep.frequencies_hz)), prep.dt_stable
     if cutoff_hz is None:
         return prep.C, prep.dt_stable
-    m = prep.model
     elastic = np.sort(np.asarray(prep.frequencies_hz, float))
     elastic = elastic[elastic >= 0.5]  # above the drive line's rigid-body rotation
     if elastic.size and cutoff_hz <= elastic[0]:
@@ -199,12 +205,19 @@ def simulate(
         w0 = w1 = t.simulation.initial_rpm * math.pi / 30
         duration = t.simulation.duration_s
     damping, dt_limit = damping_operator(prep, getattr(t, "modal_damping_cutoff_hz", None))
-    dt = t.simulation.time_step_s or 0.8 * dt_limit
+    w_top = max(abs(w0), abs(w1))
+    mesh_period = _mesh_period(model, ratios, w_top)
+    scheme, dt_newmark = choose_integrator(t.simulation, dt_limit, mesh_period,
+                                           w_top * max(ratios.values()) / (2 * math.pi))
+    if scheme == "newmark":
+        dt = t.simulation.time_step_s or dt_newmark
+    else:
+        dt = t.simulation.time_step_s or 0.8 * dt_limit
     if check_step:
         check_time_step(dt, "transmission.simulation.time_step_s" if t.simulation.time_step_s
-                        else "transmission.simulation.time_step_s (default: 0.8 × stability "
-                        "limit)", mesh_period_s=_mesh_period(model, ratios, max(abs(w0), abs(w1))),
-                        stable_limit_s=dt_limit)
+                        else f"transmission.simulation.time_step_s (default: {scheme} step)",
+                        mesh_period_s=mesh_period,
+                        stable_limit_s=dt_limit if scheme == "explicit" else None)
     n_steps = int(math.ceil(duration / dt))
     rec_every = max(1, int(round(1.0 / (t.simulation.record_rate_hz * dt))))
     # rigid-body initial speeds on θz
@@ -234,21 +247,34 @@ def simulate(
     rec_dofs = np.array([6 * model.shaft_nodes[s][0] + 5 for s in shafts] + extra,
                         dtype=np.int64)
     ref_node = model.node_of(ref_shaft, ref_local)
-    Minv = np.linalg.inv(model.M)
+    gargs = explicit.gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
+                                                       for s, ids in model.shaft_nodes.items()}
+                                     ) if t.simulation.gyroscopic else None
+    xargs = load_args(model, t) if (t.unbalance or t.external_loads) else None
+    common = (model.bearings.args(), model.meshes.args(),
+              6 * model.drive_node + 5, 6 * model.load_node + 5, 6 * ref_node + 5,
+              model.node_sign(model.drive_node), model.node_sign(model.load_node),
+              model.node_sign(ref_node), model.load_torque,
+              np.array([0.0, duration, duration * 10 + 1.0]), np.array([w0, w1, w1]),
+              kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs)
     t1 = _time.perf_counter()
-    rec, energy, n_done, status, q, vend, _ = explicit.run_loop(
-        prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, damping,
-        model.bearings.args(), model.meshes.args(),
-        6 * model.drive_node + 5, 6 * model.load_node + 5, 6 * ref_node + 5,
-        model.node_sign(model.drive_node), model.node_sign(model.load_node),
-        model.node_sign(ref_node), model.load_torque,
-        np.array([0.0, duration, duration * 10 + 1.0]), np.array([w0, w1, w1]),
-        kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs, control=control,
-        gargs=explicit.gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
-                                                 for s, ids in model.shaft_nodes.items()})
-        if t.simulation.gyroscopic else None,
-        xargs=load_args(model, t) if (t.unbalance or t.external_loads) else None,
-    )
+    newton = None
+    if scheme == "newmark":
+        from geardyn.solve import implicit_fe
+
+        gyro0 = None
+        if gargs is not None:
+            gyro0 = sum(model.shaft_sign[s] * ratios.get(s, 0.0) * w0 * g
+                        for s, g in model.gyroscopic.items())
+        rec, energy, n_done, status, q, vend, _, newton = implicit_fe.run_loop(
+            prep.q0.copy(), v, dt, n_steps, rec_every, model.M, model.K, prep.K_lin, damping,
+            sparse_damping(damping), *common, control=control, gargs=gargs, xargs=xargs,
+            gyro0=gyro0)
+    else:
+        Minv = np.linalg.inv(model.M)
+        rec, energy, n_done, status, q, vend, _ = explicit.run_loop(
+            prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, damping, *common,
+            control=control, gargs=gargs, xargs=xargs)
     t_run = _time.perf_counter() - t1
     ds = records_dataset(rec, model, t, shafts, len(extra), support_ix)
     names = ["input_J", "output_J", "bearing_viscous_J", "rolling_resistance_J",
@@ -258,10 +284,13 @@ def simulate(
     ke1 = 0.5 * vend @ model.M @ vend
     ds.attrs.update({
         "kinetic_energy_start_J": float(ke0), "kinetic_energy_end_J": float(ke1),
-        "time_step_s": dt, "steps": int(n_done), "wall_prepare_s": t_prep,
+        "time_step_s": dt, "steps": int(n_done), "wall_prepare_s": t_prep, "integrator": scheme,
         "wall_integrate_s": t_run, "reference_shaft": ref_shaft,
         "natural_frequencies_hz": prep.frequencies_hz[prep.frequencies_hz > 1.0][:30],
     })
+    if newton is not None:
+        ds.attrs["newton_iterations_per_step"] = float(newton[0] / max(1, n_done))
+        ds.attrs["newton_unconverged_steps"] = int(newton[1])
     finish(ds, "transmission", ref_shaft)
     if status == 2:
         ds.attrs["status"] = "interrupted"
@@ -283,6 +312,47 @@ def simulate(
             ds,
         )
     return ds
+
+
+#: Newmark steps per period of the highest resolved frequency (average acceleration: period
+#: error (ω dt)²/12 = 0.8 % there, Géradin & Rixen 2015 §7.3; below it falls as f²).
+STEPS_PER_PERIOD = 20
+#: Default resolved frequency: mesh harmonics up to this order, shaft orders up to this one.
+MESH_HARMONICS = 3
+SHAFT_ORDERS = 10
+#: ``auto`` takes Newmark when its step is this many times the explicit one (a Newmark step
+#: costs ≈ 2-3 force evaluations and a banded solve).
+AUTO_RATIO = 4.0
+
+
+def choose_integrator(sim, dt_limit: float, mesh_period: float | None,  # noqa: ANN001
+                      shaft_hz: float) -> tuple[str, float]:
+    """(scheme, Newmark step [s]) for ``sim`` (SimulationConfig): the Newmark step resolves
+    ``resolved_frequency_hz`` with :data:`STEPS_PER_PERIOD` steps, by default the highest of
+    :data:`MESH_HARMONICS` × the top mesh frequency and :data:`SHAFT_ORDERS` × the top shaft
+    speed; ``auto`` picks Newmark when that step is :data:`AUTO_RATIO` × the explicit one
+    (0.8 × ``dt_limit``) or more."""
+    f = sim.resolved_frequency_hz
+    if f is None:
+        f = max(MESH_HARMONICS / mesh_period if mesh_period else 0.0, SHAFT_ORDERS * shaft_hz)
+    if not f > 0:
+        f = 0.5 / dt_limit  # at rest, no mesh: the explicit step's scale
+    dt_newmark = 1.0 / (STEPS_PER_PERIOD * f)
+    scheme = sim.integrator
+    if scheme == "auto":
+        scheme = "newmark" if dt_newmark >= AUTO_RATIO * 0.8 * dt_limit else "explicit"
+    return scheme, dt_newmark
+
+
+def sparse_damping(damping) -> np.ndarray | None:  # noqa: ANN001
+    """The sparse part of the loop's damping for the Newmark step matrix: the
+    stiffness-proportional + supports part of a :class:`~geardyn.solve.explicit.ModalDamping`;
+    a dense damping matrix enters the step matrix only if it is sparse (supports and dashpots
+    alone), else it stays in the residual (modified Newton)."""
+    if isinstance(damping, explicit.ModalDamping):
+        return np.asarray(damping.stiffness, float)
+    C = np.asarray(damping, float)
+    return C if np.count_nonzero(C) <= 0.1 * C.size else None
 
 
 def recorded_dofs(model: TransmissionModel, names: list[str]
