@@ -279,10 +279,13 @@ class SimulationConfig(_Strict):
         False, description="gyroscopic terms Ω_s(t) G_s q̇ of shafts and wheels at each "
         "shaft's current speed in the time integration"
     )
-    integrator: Literal["explicit", "newmark", "auto"] = Field(
+    integrator: Literal["explicit", "newmark", "exponential", "auto"] = Field(
         "auto", description="explicit: velocity Verlet at 0.8 × the stability limit; newmark: "
         "implicit average acceleration with Newton iterations, step set by "
-        "resolved_frequency_hz; auto: the one with fewer force evaluations")
+        "resolved_frequency_hz; exponential: exact modal integration of a linear rotor at "
+        "constant speed (no meshes, no Hertzian bearings; step = 1/record_rate_hz); auto: "
+        "exponential where it applies, else newmark when its step is ≥ 4 × the explicit one, "
+        "else explicit")
     resolved_frequency_hz: float | None = Field(
         None, gt=0, description="newmark: highest frequency to resolve (step = 1/(20 f)); "
         "default: 2 × the highest of the mesh frequency, the 1×/2× speed orders and the modes "

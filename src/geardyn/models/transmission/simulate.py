@@ -209,8 +209,23 @@ def simulate(
     mesh_period = _mesh_period(model, ratios, w_top)
     scheme, dt_newmark = choose_integrator(t.simulation, dt_limit, mesh_period,
                                            w_top * max(ratios.values()) / (2 * math.pi))
+    gyro0 = None
+    if t.simulation.gyroscopic:
+        gyro0 = sum(model.shaft_sign[s] * ratios.get(s, 0.0) * w0 * g
+                    for s, g in model.gyroscopic.items())
+    if t.simulation.integrator in ("auto", "exponential"):
+        from geardyn.models.transmission.exact import exponential_reason
+
+        reason = exponential_reason(model, t, w0, w1, dense_damping(damping), gyro0)
+        if t.simulation.integrator == "exponential" and reason:
+            raise ConfigError("transmission.simulation.integrator: 'exponential' applies to "
+                              f"linear rotors at constant speed only: {reason}")
+        if not reason:
+            scheme = "exponential"
     if scheme == "newmark":
         dt = t.simulation.time_step_s or dt_newmark
+    elif scheme == "exponential":
+        dt = t.simulation.time_step_s or 1.0 / t.simulation.record_rate_hz
     else:
         dt = t.simulation.time_step_s or 0.8 * dt_limit
     if check_step:
@@ -259,13 +274,16 @@ def simulate(
               kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs)
     t1 = _time.perf_counter()
     newton = None
-    if scheme == "newmark":
+    if scheme == "exponential":
+        from geardyn.models.transmission.exact import run_exponential
+
+        rec, energy, q, vend = run_exponential(model, t, dense_damping(damping), gyro0,
+                                               prep.q0.copy(), v, dt, n_steps, rec_dofs)
+        rec = rec[::rec_every]
+        n_done, status = n_steps, 0
+    elif scheme == "newmark":
         from geardyn.solve import implicit_fe
 
-        gyro0 = None
-        if gargs is not None:
-            gyro0 = sum(model.shaft_sign[s] * ratios.get(s, 0.0) * w0 * g
-                        for s, g in model.gyroscopic.items())
         rec, energy, n_done, status, q, vend, _, newton = implicit_fe.run_loop(
             prep.q0.copy(), v, dt, n_steps, rec_every, model.M, model.K, prep.K_lin, damping,
             sparse_damping(damping), *common, control=control, gargs=gargs, xargs=xargs,
@@ -288,6 +306,9 @@ def simulate(
         "wall_integrate_s": t_run, "reference_shaft": ref_shaft,
         "natural_frequencies_hz": prep.frequencies_hz[prep.frequencies_hz > 1.0][:30],
     })
+    if scheme == "exponential":
+        ds.attrs["energy_balance"] = ("exact integration: the damping dissipation "
+                                      "(energy_modal_damping_J) is the balance of the others")
     if newton is not None:
         ds.attrs["newton_iterations_per_step"] = float(newton[0] / max(1, n_done))
         ds.attrs["newton_unconverged_steps"] = int(newton[1])
@@ -342,6 +363,15 @@ def choose_integrator(sim, dt_limit: float, mesh_period: float | None,  # noqa: 
     if scheme == "auto":
         scheme = "newmark" if dt_newmark >= AUTO_RATIO * 0.8 * dt_limit else "explicit"
     return scheme, dt_newmark
+
+
+def dense_damping(damping) -> np.ndarray:  # noqa: ANN001
+    """The loop's damping as one dense matrix (a :class:`~geardyn.solve.explicit.ModalDamping`
+    summed: S + B diag(w) Bᵀ)."""
+    if isinstance(damping, explicit.ModalDamping):
+        B = np.asarray(damping.basis, float)
+        return np.asarray(damping.stiffness, float) + (B * damping.weights) @ B.T
+    return np.asarray(damping, float)
 
 
 def sparse_damping(damping) -> np.ndarray | None:  # noqa: ANN001
