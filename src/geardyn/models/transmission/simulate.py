@@ -208,7 +208,8 @@ def simulate(
     w_top = max(abs(w0), abs(w1))
     mesh_period = _mesh_period(model, ratios, w_top)
     scheme, dt_newmark = choose_integrator(t.simulation, dt_limit, mesh_period,
-                                           w_top * max(ratios.values()) / (2 * math.pi))
+                                           w_top * max(ratios.values()) / (2 * math.pi),
+                                           float(model.meshes.npc.max(initial=0.0)))
     gyro0 = None
     if t.simulation.gyroscopic:
         gyro0 = sum(model.shaft_sign[s] * ratios.get(s, 0.0) * w0 * g
@@ -338,8 +339,10 @@ def simulate(
 #: Newmark steps per period of the highest resolved frequency (average acceleration: period
 #: error (ω dt)²/12 = 0.8 % there, Géradin & Rixen 2015 §7.3; below it falls as f²).
 STEPS_PER_PERIOD = 20
-#: Default resolved frequency: mesh harmonics up to this order, shaft orders up to this one.
-MESH_HARMONICS = 3
+#: Default resolved frequency: mesh harmonics up to this fraction of the mesh-stiffness table's
+#: points per cycle (a quarter: the table's content up to half its Nyquist order), shaft
+#: orders up to :data:`SHAFT_ORDERS`.
+MESH_HARMONICS_PER_POINT = 0.25
 SHAFT_ORDERS = 10
 #: ``auto`` takes Newmark when its step is this many times the explicit one (a Newmark step
 #: costs ≈ 2-3 force evaluations and a banded solve).
@@ -347,15 +350,17 @@ AUTO_RATIO = 4.0
 
 
 def choose_integrator(sim, dt_limit: float, mesh_period: float | None,  # noqa: ANN001
-                      shaft_hz: float) -> tuple[str, float]:
+                      shaft_hz: float, table_points: float = 0.0) -> tuple[str, float]:
     """(scheme, Newmark step [s]) for ``sim`` (SimulationConfig): the Newmark step resolves
     ``resolved_frequency_hz`` with :data:`STEPS_PER_PERIOD` steps, by default the highest of
-    :data:`MESH_HARMONICS` × the top mesh frequency and :data:`SHAFT_ORDERS` × the top shaft
-    speed; ``auto`` picks Newmark when that step is :data:`AUTO_RATIO` × the explicit one
-    (0.8 × ``dt_limit``) or more."""
+    the mesh harmonic :data:`MESH_HARMONICS_PER_POINT` × ``table_points`` (points per mesh
+    cycle of the stiffness tables) at the top mesh frequency and :data:`SHAFT_ORDERS` × the
+    top shaft speed; ``auto`` picks Newmark when that step is :data:`AUTO_RATIO` × the explicit
+    one (0.8 × ``dt_limit``) or more."""
     f = sim.resolved_frequency_hz
     if f is None:
-        f = max(MESH_HARMONICS / mesh_period if mesh_period else 0.0, SHAFT_ORDERS * shaft_hz)
+        harmonics = max(1.0, MESH_HARMONICS_PER_POINT * table_points)
+        f = max(harmonics / mesh_period if mesh_period else 0.0, SHAFT_ORDERS * shaft_hz)
     if not f > 0:
         f = 0.5 / dt_limit  # at rest, no mesh: the explicit step's scale
     dt_newmark = 1.0 / (STEPS_PER_PERIOD * f)
