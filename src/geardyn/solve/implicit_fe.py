@@ -202,7 +202,7 @@ def run_chunk(
             v1[j] = vt[j] + GAMMA * dt * a1[j]
         err = 0.0
         converged = False
-        for it in range(MAX_ITER):
+        for _it in range(MAX_ITER):
             err = wr - ref_sign_speed(v1, ref_dof, ref_sign)
             td = t0_drive + kp * err + ki * (integ + err * dt)
             fext[drive_dof] = drive_sign * td

@@ -202,5 +202,5 @@ def unbalance_response(model: TransmissionModel, prepared, speed_rpm: float,  # 
     return np.linalg.solve(K - w * w * M + 1j * w * C, F)
 
 
-__all__ = ["MOTION", "NODE_DOFS", "RIGID_HZ", "damped_modes", "unbalance_response", "element_tangents",
-           "fe_campbell", "fe_modes"]
+__all__ = ["MOTION", "NODE_DOFS", "RIGID_HZ", "damped_modes", "element_tangents",
+           "fe_campbell", "fe_modes", "unbalance_response"]
