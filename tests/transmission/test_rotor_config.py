@@ -191,3 +191,17 @@ def test_speed_table_with_a_speed_ramp_refused(examples_dir) -> None:
                                       "start_rpm": 1000.0, "end_rpm": 3000.0, "revolutions": 5}
     with pytest.raises(ConfigError, match=r"supports\[0\] 'left'.speeds_rpm"):
         build_model(parse_config(d))
+
+
+def test_modal_strain_energy_includes_the_supports(examples_dir) -> None:
+    """Invariant (seed 003 eqs 3.28-3.29 on the element matrices): the strain energy of every
+    elastic mode over the shaft elements and the supports sums to ½ ω² (mass-normalised)."""
+    from geardyn.models.transmission.modal import fe_modes
+
+    model = build_model(parse_config(_rotor(examples_dir)))
+    r = fe_modes(model, prepare(model))
+    assert r.spring_names[-2:] == ["support.left", "support.right"]
+    el = r.freq_hz > 1.0
+    np.testing.assert_allclose(r.strain[el].sum(axis=1),
+                               0.5 * (2 * math.pi * r.freq_hz[el]) ** 2, rtol=1e-8)
+    assert r.strain[np.argmax(el), -2:].sum() > 0.1 * r.strain[np.argmax(el)].sum()

@@ -110,6 +110,8 @@ class SupportPart:
     node: int
     K: np.ndarray
     C: np.ndarray
+    kzz: float = 0.0
+    """Axial stiffness [N/m]."""
 
     @property
     def dofs(self) -> np.ndarray:
@@ -467,7 +469,7 @@ def _linear_parts(t, K: np.ndarray, node, shaft_nodes: dict[str, list[int]],  # 
         rpm = (ref_rpm or 0.0) * ratios.get(sc.at.shaft, 0.0)
         k4, c4 = (np.array(m, float) for m in sc.matrices(rpm))
         nd = node(sc.at)
-        part = SupportPart(sc.name, nd, k4, c4)
+        part = SupportPart(sc.name, nd, k4, c4, sc.kzz_n_per_m)
         ix = np.ix_(part.dofs, part.dofs)
         K[ix] += k4
         C[ix] += c4

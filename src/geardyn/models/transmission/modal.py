@@ -80,6 +80,12 @@ def element_tangents(model: TransmissionModel, q: np.ndarray, h: float = 1e-9
         dofs = np.concatenate([6 * int(mh.na[i]) + node, 6 * int(mh.nb[i]) + node])
         fm = force_of(mesh_forces, _one(mh, i).args(), (1,))
         out.append((f"mesh.{name}", dofs, tangent(fm, dofs)))
+    for sp in model.supports:  # linear supports (x, y, θx, θy) and their axial stiffness
+        dofs = np.concatenate([sp.dofs, [6 * sp.node + 2]])
+        k = np.zeros((5, 5))
+        k[:4, :4] = 0.5 * (sp.K + sp.K.T)
+        k[4, 4] = sp.kzz
+        out.append((f"support.{sp.name}", dofs, k))
     return out
 
 
@@ -117,7 +123,7 @@ def fe_modes(model: TransmissionModel, prepared=None):  # noqa: ANN001, ANN201
         share = {g: float(frac[i, sel].sum()) for g, sel in groups.items()}
         g = max(share, key=share.get)
         types.append(g if share[g] >= 0.5 else "mixed")
-    bins = [e[0].split(".", 1)[0] if e[0].split(".", 1)[0] in ("bearing", "mesh")
+    bins = [e[0].split(".", 1)[0] if e[0].split(".", 1)[0] in ("bearing", "mesh", "support")
             else "shaft" for e in elements]
     return ModalResult(f, phi, em.multiplicity, types, kinetic_energy(M, f, phi), strain,
                        list(names), [e[0] for e in elements], bins, frac)
