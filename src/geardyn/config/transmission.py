@@ -105,8 +105,8 @@ class SupportConfig(_Strict):
     −K (x, y) − C (ẋ, ẏ) with the 2×2 stiffness K = [[kxx, kxy], [kyx, kyy]] and damping
     C = [[cxx, cxy], [cyx, cyy]] (cross terms of fluid-film bearings allowed, non-symmetric),
     or full 4×4 matrices on (x, y, θx, θy). Coefficients are numbers, or lists tabulated
-    against ``speeds_rpm`` (interpolated linearly at the shaft speed, held constant outside
-    the table, as ROSS interpolates its coefficients)."""
+    against ``speeds_rpm`` (interpolated linearly at the current shaft speed during a run,
+    held constant outside the table, as ROSS interpolates its coefficients)."""
 
     name: str
     at: NodeRef

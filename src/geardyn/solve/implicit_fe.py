@@ -293,7 +293,7 @@ def run_loop(
     LU, perm, lbw, ubw = banded_factor(S)
     Mcsr = csr(M)
     Kc, Cc = linear_args(K, C)
-    nx = xargs[0].size + xargs[3].size
+    nx = xargs[0].size + xargs[3].size + xargs[11].size
     ctl = control or RunControl()
     n = q.size
     nb = bargs[0].size

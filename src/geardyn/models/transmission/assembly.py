@@ -112,6 +112,9 @@ class SupportPart:
     C: np.ndarray
     kzz: float = 0.0
     """Axial stiffness [N/m]."""
+    table: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    """Speed table: (speeds rpm, K(n_i) − K, C(n_i) − C) for a speed that varies in the run;
+    K, C are the values at the run's start speed (in the model's K and C_lin)."""
 
     @property
     def dofs(self) -> np.ndarray:
@@ -439,37 +442,34 @@ def _linear_parts(t, K: np.ndarray, node, shaft_nodes: dict[str, list[int]],  # 
                   meshes: Meshes) -> tuple[list[SupportPart], np.ndarray | None]:
     """Stamp the linear supports (4×4 on x, y, θx, θy; axial kzz, czz) and dashpots into K
     (in place) and a damping matrix; speed-tabulated coefficients are evaluated at the run's
-    constant shaft speed (plain torque laws: ``simulation.initial_rpm`` on the drive shaft;
-    a speed law with start = end speed)."""
+    start speed (``speed_law.start_rpm`` of its reference, or ``simulation.initial_rpm`` of
+    the drive shaft, times the shaft's speed ratio) and their table kept for the loops, which
+    follow the current speed (:func:`geardyn.solve.explicit.applied_loads`)."""
     from types import SimpleNamespace
 
     if not t.supports and not t.dashpots:
         return [], None
     n = K.shape[0]
     C = np.zeros((n, n))
-    ref_rpm, ref_shaft = None, t.drive.at.shaft
+    ref_shaft = t.drive.at.shaft
     if t.speed_law is not None:
         ref_shaft = t.speed_law.reference.shaft
-        if t.speed_law.start_rpm == t.speed_law.end_rpm:
-            ref_rpm = t.speed_law.start_rpm
+        ref_rpm = t.speed_law.start_rpm
     else:
         ref_rpm = t.simulation.initial_rpm or 0.0
     from geardyn.models.transmission.simulate import speed_ratios
 
     ratios = speed_ratios(SimpleNamespace(meshes=meshes, shaft_nodes=shaft_nodes), ref_shaft)
     parts = []
-    for i, sc in enumerate(t.supports):
-        if sc.speeds_rpm is not None and ref_rpm is None:
-            raise ConfigError(
-                f"transmission.supports[{i}] '{sc.name}'.speeds_rpm: speed-dependent "
-                "coefficients are evaluated at one shaft speed, but the speed law runs from "
-                f"{t.speed_law.start_rpm:g} to {t.speed_law.end_rpm:g} rpm; give constant "
-                "coefficients or a constant speed (start_rpm = end_rpm, or a plain torque law "
-                "with simulation.initial_rpm)")
-        rpm = (ref_rpm or 0.0) * ratios.get(sc.at.shaft, 0.0)
+    for sc in t.supports:
+        rpm = ref_rpm * ratios.get(sc.at.shaft, 0.0)
         k4, c4 = (np.array(m, float) for m in sc.matrices(rpm))
         nd = node(sc.at)
         part = SupportPart(sc.name, nd, k4, c4, sc.kzz_n_per_m)
+        if sc.speeds_rpm is not None:
+            tab = [tuple(np.array(m, float) for m in sc.matrices(r)) for r in sc.speeds_rpm]
+            part.table = (np.array(sc.speeds_rpm, float),
+                          np.array([k for k, _ in tab]) - k4, np.array([c for _, c in tab]) - c4)
         ix = np.ix_(part.dofs, part.dofs)
         K[ix] += k4
         C[ix] += c4

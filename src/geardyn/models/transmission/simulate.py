@@ -205,6 +205,14 @@ def simulate(
         w0 = w1 = t.simulation.initial_rpm * math.pi / 30
         duration = t.simulation.duration_s
     damping, dt_limit = damping_operator(prep, getattr(t, "modal_damping_cutoff_hz", None))
+    for sp in model.supports:  # the explicit limit with the stiffest tabulated coefficients
+        if sp.table is not None and t.simulation.integrator != "exponential":
+            ix = np.ix_(sp.dofs, sp.dofs)
+            for dk in sp.table[1]:
+                Kt = 0.5 * (prep.K_lin + prep.K_lin.T)
+                Kt[ix] += 0.5 * (dk + dk.T)
+                dt_limit = min(dt_limit, explicit.stable_time_step(model.M, Kt)
+                               * dt_limit / prep.dt_stable)
     w_top = max(abs(w0), abs(w1))
     mesh_period = _mesh_period(model, ratios, w_top)
     scheme, dt_newmark = choose_integrator(t.simulation, dt_limit, mesh_period,
@@ -266,7 +274,13 @@ def simulate(
     gargs = explicit.gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
                                                        for s, ids in model.shaft_nodes.items()}
                                      ) if t.simulation.gyroscopic else None
-    xargs = load_args(model, t) if (t.unbalance or t.external_loads) else None
+    tables = [sp for sp in model.supports if sp.table is not None]
+    varying = (sl is not None and sl.start_rpm != sl.end_rpm) or model.drive_torque != 0.0 \
+        or model.load_torque != 0.0
+    if not varying:
+        tables = []
+    xargs = load_args(model, t, tables) if (t.unbalance or t.external_loads or tables) \
+        else None
     common = (model.bearings.args(), model.meshes.args(),
               6 * model.drive_node + 5, 6 * model.load_node + 5, 6 * ref_node + 5,
               model.node_sign(model.drive_node), model.node_sign(model.load_node),
@@ -414,7 +428,11 @@ def recorded_dofs(model: TransmissionModel, names: list[str]
             for k in (0, 1):
                 add(6 * model.discs[name] + k)
         elif name in supports:
-            sup.append((name, [add(int(j)) for j in supports[name].dofs]))
+            sp = supports[name]
+            ix = [add(int(j)) for j in sp.dofs]
+            if sp.table is not None:  # its speed, for the tabulated coefficients
+                ix.append(add(6 * sp.node + 5))
+            sup.append((name, ix))
         else:
             known = sorted([*model.discs, *supports])
             raise ConfigError(
@@ -470,13 +488,26 @@ def records_dataset(rec: np.ndarray, model: TransmissionModel, t, shafts: list[s
         f = np.zeros((rec.shape[0], len(support_ix), 2))
         for k, (name, ix) in enumerate(support_ix):
             s = sup[name]
-            u = rec[:, 2 + nd + np.array(ix)]
-            ud = rec[:, 2 + nr + nd + np.array(ix)]
-            f[:, k, :] = (u @ s.K.T + ud @ s.C.T)[:, :2]
+            u = rec[:, 2 + nd + np.array(ix[:4])]
+            ud = rec[:, 2 + nr + nd + np.array(ix[:4])]
+            K = np.broadcast_to(s.K, (rec.shape[0], 4, 4))
+            C = np.broadcast_to(s.C, (rec.shape[0], 4, 4))
+            if s.table is not None:  # coefficients at the recorded speed of its node
+                rpm = np.abs(rec[:, 2 + nr + nd + ix[4]]) * 30 / np.pi
+                K = K + _table_interp(rpm, s.table[0], s.table[1])
+                C = C + _table_interp(rpm, s.table[0], s.table[2])
+            f[:, k, :] = (np.einsum("trc,tc->tr", K, u) + np.einsum("trc,tc->tr", C, ud))[:, :2]
         variables["support_force"] = (("time", "support", "axis"), f, {
             "units": "N", "long_name": "force of the support on the housing, K u + C u̇"})
         coords["support"] = [n for n, _ in support_ix]
     return xr.Dataset(variables, coords=coords)
+
+
+def _table_interp(rpm: np.ndarray, speeds: np.ndarray, mats: np.ndarray) -> np.ndarray:
+    """(n, 4, 4) linear interpolation of ``mats`` (nt, 4, 4) at ``rpm`` (held outside)."""
+    flat = mats.reshape(mats.shape[0], -1)
+    out = np.stack([np.interp(rpm, speeds, flat[:, j]) for j in range(flat.shape[1])], axis=1)
+    return out.reshape(-1, 4, 4)
 
 
 def _extra_dofs(t, model: TransmissionModel) -> list[int]:  # noqa: ANN001
@@ -563,9 +594,11 @@ def energy_terms(ds: xr.Dataset) -> dict[str, float]:
 _DOF = {"x": 0, "y": 1, "z": 2, "rx": 3, "ry": 4, "rz": 5}
 
 
-def load_args(model: TransmissionModel, t) -> tuple:  # noqa: ANN001 - TransmissionConfig
+def load_args(model: TransmissionModel, t, tables: list | None = None  # noqa: ANN001
+              ) -> tuple:
     """Applied-load arguments of the loop (:func:`.integrate.applied_loads`) from
-    ``transmission.unbalance`` and ``transmission.external_loads``."""
+    ``transmission.unbalance``, ``transmission.external_loads`` and the speed tables of the
+    supports in ``tables`` (:class:`.assembly.SupportPart` with a table)."""
     u_dof = np.array([6 * model.node_of(u.at.shaft, u.at.node) for u in t.unbalance], np.int64)
     u_me = np.array([u.mass_eccentricity_kg_m for u in t.unbalance], float)
     u_ph = np.radians([u.phase_deg for u in t.unbalance]).astype(float)
@@ -577,7 +610,28 @@ def load_args(model: TransmissionModel, t) -> tuple:  # noqa: ANN001 - Transmiss
             np.array([x.frequency_hz for x in xl], float),
             np.array([x.order for x in xl], float),
             np.array([6 * nd + 5 for nd in nodes], np.int64),
-            np.radians([x.phase_deg for x in xl]).astype(float))
+            np.radians([x.phase_deg for x in xl]).astype(float)) + _table_args(tables or [])
+
+
+def _table_args(tables: list) -> tuple:
+    """(DOFs (n, 4), θz DOF (n), speeds rpm (n, nt), ΔK, ΔC (n, nt, 4, 4)) padded to the
+    longest table by repeating its last point."""
+    if not tables:
+        return explicit.no_support_tables()
+    nt = max(sp.table[0].size for sp in tables)
+
+    def pad(a: np.ndarray) -> np.ndarray:
+        return np.concatenate([a, np.repeat(a[-1:], nt - a.shape[0], axis=0)])
+
+    rpm = np.array([pad(sp.table[0]) for sp in tables])
+    # repeated last speeds: nudge them up so the interpolation never divides by zero
+    for i, sp in enumerate(tables):
+        k = sp.table[0].size
+        rpm[i, k:] = rpm[i, k - 1] + np.arange(1, nt - k + 1)
+    return (np.array([sp.dofs for sp in tables], np.int64),
+            np.array([6 * sp.node + 5 for sp in tables], np.int64), rpm,
+            np.array([pad(sp.table[1]) for sp in tables]),
+            np.array([pad(sp.table[2]) for sp in tables]))
 
 
 def _shaft_of(model: TransmissionModel, node: int) -> str:
