@@ -575,6 +575,8 @@ def run_loop(
     Minv = csc(Minv)
     K, C = linear_args(K, C)
     xargs = xargs if xargs is not None else no_loads()
+    if len(xargs) == 10:  # unbalances and external loads only (no speed-dependent supports)
+        xargs = tuple(xargs) + no_support_tables()
     nx = xargs[0].size + xargs[3].size + xargs[11].size
     ctl = control or RunControl()
     n = q.size

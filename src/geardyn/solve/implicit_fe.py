@@ -50,6 +50,7 @@ from geardyn.solve.explicit import (
     linear_args,
     no_gyroscopic,
     no_loads,
+    no_support_tables,
     record,
     record_array,
     ref_sign_speed,
@@ -289,6 +290,8 @@ def run_loop(
     Returns (records, energy, steps done, status, q, v, ∫e, stats)."""
     gargs = gargs if gargs is not None else no_gyroscopic()
     xargs = xargs if xargs is not None else no_loads()
+    if len(xargs) == 10:  # unbalances and external loads only (no speed-dependent supports)
+        xargs = tuple(xargs) + no_support_tables()
     S = step_matrix(M, K_lin, C_sparse, dt, gyro0)
     LU, perm, lbw, ubw = banded_factor(S)
     Mcsr = csr(M)
