@@ -148,3 +148,16 @@ def test_newmark_stop_and_resume_bit_identical(examples_dir) -> None:
     for name in full.data_vars:
         assert np.array_equal(res[name].values, full[name].values), name
     assert res.attrs["energy_input_J"] == full.attrs["energy_input_J"]
+
+
+def test_unsupported_rotor_is_not_integrated_exactly(examples_dir) -> None:
+    """A free-free rotor (no supports) has rigid lateral modes (a defective modal basis):
+    ``auto`` falls back to a step integrator, ``exponential`` is refused naming the reason."""
+    d = _rotor(examples_dir, duration_s=0.01)
+    d["transmission"]["supports"] = []
+    d["transmission"]["simulation"]["record"] = ["disc 1"]
+    ds = simulate(parse_config(d))
+    assert ds.attrs["integrator"] in ("newmark", "explicit")
+    d["transmission"]["simulation"]["integrator"] = "exponential"
+    with pytest.raises(ConfigError, match="rigid-body mode"):
+        simulate(parse_config(d))

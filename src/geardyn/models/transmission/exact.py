@@ -27,6 +27,12 @@ def exponential_reason(model, t, w0: float, w1: float, C: np.ndarray,  # noqa: A
     mats = [model.M, model.K, C] + ([gyro] if gyro is not None else [])
     if not ef.uncoupled(mats, lat, rest):
         return "the lateral DOFs are coupled with the axial/torsional ones"
+    from scipy.linalg import eigvalsh
+
+    ix = np.ix_(lat, lat)
+    w2 = eigvalsh(0.5 * (model.K[ix] + model.K[ix].T), model.M[ix], subset_by_index=[0, 0])
+    if not w2[0] > (2 * math.pi * 0.5) ** 2:  # below 0.5 Hz: a rigid (defective) lateral mode
+        return "the lateral motion has a rigid-body mode (unsupported rotor)"
     return ""
 
 
