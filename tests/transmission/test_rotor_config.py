@@ -182,6 +182,13 @@ def test_disc_geometry_offset_and_dashpot(examples_dir) -> None:
     assert model.M[j, j + 4] - base.M[j, j + 4] == pytest.approx(m * 0.03, rel=1e-12)
     C = model.C_lin - base.C_lin
     assert C[6 * 6 + 1, 6 * 6 + 1] == 200.0 and np.count_nonzero(C) == 1
+    # lumped shaft mass keeps the offset disc's coupling
+    from geardyn.models.transmission.simulate import with_mass
+
+    t["mass"] = "lumped"
+    lumped = with_mass(model, parse_config(d).transmission)
+    assert lumped.M[j, j + 4] == pytest.approx(m * 0.03, rel=1e-12)
+    assert lumped.M[j + 1, j + 3] == pytest.approx(-m * 0.03, rel=1e-12)
 
 
 @pytest.mark.parametrize("integrator", ["explicit", "newmark"])

@@ -67,7 +67,16 @@ def with_mass(model: TransmissionModel, t) -> TransmissionModel:  # noqa: ANN001
         for e in range(s.elements):
             a = 6 * ids[e]
             d[a : a + 12] += np.diag(ml) - np.diag(mc)
-    return replace(model, M=np.diag(d))
+    M = np.diag(d)
+    for disc in getattr(t, "discs", []):  # an offset disc keeps its x–θy, y–θx coupling
+        if disc.offset_m != 0.0:
+            m = disc.properties()[0]
+            a = 6 * model.node_of(disc.at.shaft, disc.at.node)
+            M[a, a + 4] += m * disc.offset_m
+            M[a + 4, a] += m * disc.offset_m
+            M[a + 1, a + 3] -= m * disc.offset_m
+            M[a + 3, a + 1] -= m * disc.offset_m
+    return replace(model, M=M)
 
 
 def connecting_jacobian(model: TransmissionModel, q: np.ndarray, h: float = 1e-9) -> np.ndarray:
@@ -153,7 +162,6 @@ def damping_operator(prep: Prepared, cutoff_hz: float | None
     xi = float(op.ratios[-1])
     if m.C_lin is not None:  # supports and dashpots: in the sparse part
         op = op._replace(stiffness=np.asarray(op.stiffness) + m.C_lin)
-        return op, prep.dt_stable * 0.5 * explicit.damped_step_limit(xi)
     return op, prep.dt_stable * 0.5 * explicit.damped_step_limit(xi)
 
 
