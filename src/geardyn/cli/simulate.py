@@ -120,10 +120,10 @@ def run_and_write(cfg, config: Path, out: Path | None, *, model: str | None = No
     a = ds.attrs
     if kind == "transmission" and "energy_input_J" in a:
         ein, eout = a["energy_input_J"], a["energy_output_J"]
+        eff = f"efficiency {eout / ein:.3%}" if ein else "no drive power (efficiency n/a)"
         console.print(
             f"simulated {float(ds.time[-1]):.3f} s in {a['steps']} steps "
-            f"({a['wall_integrate_s']:.1f} s); efficiency "
-            f"{eout / ein if ein else float('nan'):.3%}")
+            f"({a['wall_integrate_s']:.1f} s, {a.get('integrator', 'explicit')}); {eff}")
     ch = channels(ds)
     where = f"wrote {out}" if out is not None else "simulated (no output file)"
     console.print(f"{where}: {ds.sizes['time']} samples × {ds.sizes['shaft']} shafts, "

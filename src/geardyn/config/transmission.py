@@ -76,12 +76,156 @@ class BearingConfig(_Strict):
     def _geom(self) -> BearingConfig:
         if self.element_diameter_m >= self.pitch_diameter_m:
             raise ValueError("element_diameter_m must be < pitch_diameter_m")
+        if self.kind == "ball":
+            # the groove-centre distance A₀ = (f_i + f_o − 1) D must exceed half the clearance:
+            # beyond it every ball is out of contact at any load and the contact law
+            # (Harris & Kotzalas 2006, §7) gives spurious forces
+            limit = 2.0 * (self.inner_conformity + self.outer_conformity - 1.0) \
+                * self.element_diameter_m
+            if self.diametral_clearance_m >= limit:
+                raise ValueError(
+                    f"diametral_clearance_m: {self.diametral_clearance_m:g} m must be < "
+                    f"2 (f_i + f_o − 1) D = {limit:g} m (inner_conformity, outer_conformity, "
+                    "element_diameter_m; Harris & Kotzalas 2006 §7: the groove-centre "
+                    "distance A₀ = (f_i + f_o − 1) D)")
         if self.kind == "roller":
             if self.roller_length_m is None:
                 raise ValueError("roller bearings need roller_length_m")
             if 2 * self.roller_fillet_m >= self.roller_length_m:
                 raise ValueError("roller_fillet_m: two fillets must be shorter than the roller")
         return self
+
+
+_COEF = ("xx", "xy", "yx", "yy")
+
+
+class SupportConfig(_Strict):
+    """Linear bearing / support between a shaft node and the housing (ROSS's
+    ``BearingElement``; Friswell et al. 2010, §5.5): force on the shaft
+    −K (x, y) − C (ẋ, ẏ) with the 2×2 stiffness K = [[kxx, kxy], [kyx, kyy]] and damping
+    C = [[cxx, cxy], [cyx, cyy]] (cross terms of fluid-film bearings allowed, non-symmetric),
+    or full 4×4 matrices on (x, y, θx, θy). Coefficients are numbers, or lists tabulated
+    against ``speeds_rpm`` (interpolated linearly at the current shaft speed during a run,
+    held constant outside the table, as ROSS interpolates its coefficients)."""
+
+    name: str
+    at: NodeRef
+    speeds_rpm: list[float] | None = Field(
+        None, min_length=2, description="shaft speeds of the tabulated coefficients (ascending)")
+    kxx_n_per_m: float | list[float] = 0.0
+    kxy_n_per_m: float | list[float] = 0.0
+    kyx_n_per_m: float | list[float] = 0.0
+    kyy_n_per_m: float | list[float] = 0.0
+    cxx_ns_per_m: float | list[float] = 0.0
+    cxy_ns_per_m: float | list[float] = 0.0
+    cyx_ns_per_m: float | list[float] = 0.0
+    cyy_ns_per_m: float | list[float] = 0.0
+    kzz_n_per_m: float = Field(0.0, ge=0, description="axial stiffness")
+    czz_ns_per_m: float = Field(0.0, ge=0, description="axial damping")
+    stiffness_matrix: list[list[float]] | None = Field(
+        None, description="4×4 stiffness on (x, y, θx, θy) in N/m, N, N·m/rad (replaces kxx…)")
+    damping_matrix: list[list[float]] | None = Field(
+        None, description="4×4 damping on (x, y, θx, θy) (replaces cxx…)")
+
+    @model_validator(mode="after")
+    def _table(self) -> SupportConfig:
+        sp = self.speeds_rpm
+        for kind in ("k", "c"):
+            for c in _COEF:
+                f = f"{kind}{c}_{'n_per_m' if kind == 'k' else 'ns_per_m'}"
+                val = getattr(self, f)
+                if isinstance(val, list):
+                    if sp is None:
+                        raise ValueError(f"{f}: a list of values needs speeds_rpm")
+                    if len(val) != len(sp):
+                        raise ValueError(f"{f}: {len(val)} values for {len(sp)} speeds_rpm")
+        if sp is not None and any(b <= a for a, b in zip(sp, sp[1:], strict=False)):
+            raise ValueError("speeds_rpm: must be strictly ascending")
+        for f in ("stiffness_matrix", "damping_matrix"):
+            m = getattr(self, f)
+            if m is not None and (len(m) != 4 or any(len(r) != 4 for r in m)):
+                raise ValueError(f"{f}: must be 4×4 on (x, y, θx, θy)")
+        return self
+
+    def matrices(self, speed_rpm: float) -> tuple[list[list[float]], list[list[float]]]:
+        """(K, C) 4×4 on (x, y, θx, θy) at ``speed_rpm`` (linear interpolation of the table,
+        constant outside it)."""
+        import numpy as np
+
+        def val(f: str) -> float:
+            v = getattr(self, f)
+            if isinstance(v, list):
+                return float(np.interp(abs(speed_rpm), self.speeds_rpm, v))
+            return float(v)
+
+        out = []
+        for kind, unit, full in (("k", "n_per_m", self.stiffness_matrix),
+                                 ("c", "ns_per_m", self.damping_matrix)):
+            if full is not None:
+                out.append([list(map(float, r)) for r in full])
+                continue
+            m = [[0.0] * 4 for _ in range(4)]
+            for c in _COEF:
+                m["xy".index(c[0])]["xy".index(c[1])] = val(f"{kind}{c}_{unit}")
+            out.append(m)
+        return out[0], out[1]
+
+
+class DiscConfig(_Strict):
+    """Rigid disc (not a gear wheel) on a shaft node: mass, polar and diametral inertia given,
+    or computed from an annular geometry (ρ π (R² − r²) w, I_p = m (R² + r²)/2,
+    I_d = m (R² + r²)/4 + m w²/12; Friswell et al. 2010, §5.3); ``offset_m`` places its
+    centre of mass along the shaft axis from the node (rigid link)."""
+
+    name: str
+    at: NodeRef
+    mass_kg: float | None = Field(None, gt=0)
+    polar_inertia_kg_m2: float | None = Field(None, ge=0)
+    diametral_inertia_kg_m2: float | None = Field(None, ge=0)
+    outer_diameter_m: float | None = Field(None, gt=0)
+    inner_diameter_m: float = Field(0.0, ge=0)
+    width_m: float | None = Field(None, gt=0)
+    density_kg_m3: float = Field(7810.0, gt=0)
+    offset_m: float = Field(0.0, description="axial offset of the centre of mass from the node")
+
+    @model_validator(mode="after")
+    def _given(self) -> DiscConfig:
+        geo = self.outer_diameter_m is not None or self.width_m is not None
+        if geo:
+            if self.outer_diameter_m is None or self.width_m is None:
+                raise ValueError("outer_diameter_m and width_m: give both for a disc geometry")
+            if self.inner_diameter_m >= self.outer_diameter_m:
+                raise ValueError("inner_diameter_m must be < outer_diameter_m")
+            if self.mass_kg is not None or self.polar_inertia_kg_m2 is not None:
+                raise ValueError("mass_kg / polar_inertia_kg_m2: give either the geometry "
+                                 "(outer_diameter_m, width_m) or the mass and inertias")
+        elif self.mass_kg is None or self.polar_inertia_kg_m2 is None:
+            raise ValueError("mass_kg and polar_inertia_kg_m2 (or outer_diameter_m and "
+                             "width_m) are required")
+        return self
+
+    def properties(self) -> tuple[float, float, float]:
+        """(mass kg, I_p, I_d kg·m²)."""
+        if self.outer_diameter_m is not None:
+            from geardyn.elements.disc import solid_disc_properties
+
+            return solid_disc_properties(0.5 * self.outer_diameter_m, 0.5 * self.inner_diameter_m,
+                                         self.width_m, self.density_kg_m3)
+        ip = float(self.polar_inertia_kg_m2)
+        idia = ip / 2 if self.diametral_inertia_kg_m2 is None else self.diametral_inertia_kg_m2
+        return float(self.mass_kg), ip, float(idia)
+
+
+class DashpotConfig(_Strict):
+    """Linear spring-dashpot on one DOF of a node, to the housing or to another node ``to``
+    (same DOF): F = −k (u − u_to) − c (u̇ − u̇_to)."""
+
+    name: str
+    at: NodeRef
+    to: NodeRef | None = Field(None, description="other node (default: the housing)")
+    dof: Literal["x", "y", "z", "rx", "ry", "rz"]
+    damping: float = Field(ge=0, description="N·s/m (x, y, z) or N·m·s/rad (rx, ry, rz)")
+    stiffness: float = Field(0.0, ge=0, description="N/m or N·m/rad")
 
 
 class WheelConfig(_Strict):
@@ -135,6 +279,21 @@ class SimulationConfig(_Strict):
         False, description="gyroscopic terms Ω_s(t) G_s q̇ of shafts and wheels at each "
         "shaft's current speed in the time integration"
     )
+    integrator: Literal["explicit", "newmark", "exponential", "auto"] = Field(
+        "auto", description="explicit: velocity Verlet at 0.8 × the stability limit; newmark: "
+        "implicit average acceleration with Newton iterations, step set by "
+        "resolved_frequency_hz; exponential: exact modal integration of a linear rotor at "
+        "constant speed (no meshes, no Hertzian bearings; step = 1/record_rate_hz); auto: "
+        "exponential where it applies, else newmark when its step is ≥ 4 × the explicit one, "
+        "else explicit")
+    resolved_frequency_hz: float | None = Field(
+        None, gt=0, description="newmark: highest frequency to resolve (step = 1/(20 f)); "
+        "default: 2 × the highest of the mesh frequency, the 1×/2× speed orders and the modes "
+        "below 5 kHz")
+    record: list[str] = Field(
+        default_factory=list, description="extra outputs by name: a DOF "
+        "('{shaft}.n{i}.{x,y,z,rx,ry,rz}'), a disc name (its node's x and y) or a support "
+        "name (its force on the housing)")
 
 
 class UnbalanceConfig(_Strict):
@@ -176,12 +335,31 @@ class TransmissionConfig(_Strict):
     wheels: list[WheelConfig] = Field(default_factory=list)
     bearings: list[BearingConfig] = Field(default_factory=list)
     meshes: list[MeshConfig] = Field(default_factory=list)
-    drive: TorqueConfig
-    load: TorqueConfig
+    discs: list[DiscConfig] = Field(default_factory=list)
+    supports: list[SupportConfig] = Field(default_factory=list)
+    dashpots: list[DashpotConfig] = Field(default_factory=list)
+    drive: TorqueConfig | None = Field(
+        None, description="drive torque node (default: node 0 of the first shaft, 0 N·m)")
+    load: TorqueConfig | None = Field(
+        None, description="load torque node (default: last node of the first shaft, 0 N·m)")
     speed_law: SpeedLaw | None = None
     simulation: SimulationConfig = Field(default_factory=SimulationConfig)
     unbalance: list[UnbalanceConfig] = Field(default_factory=list)
     external_loads: list[ExternalLoadConfig] = Field(default_factory=list)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _default_torques(cls, data):  # noqa: ANN001, ANN206
+        """A bare rotor needs no drive/load: 0 N·m at node 0 of the first shaft."""
+        if isinstance(data, dict) and data.get("shafts"):
+            first = data["shafts"][0]
+            name = first.get("name") if isinstance(first, dict) else getattr(first, "name", None)
+            if data.get("drive") is None and name is not None:
+                data = {**data, "drive": {"at": {"shaft": name, "node": 0}, "torque_nm": 0.0}}
+            last = first.get("elements", 5) if isinstance(first, dict) else first.elements
+            if data.get("load") is None and name is not None:
+                data = {**data, "load": {"at": {"shaft": name, "node": last}, "torque_nm": 0.0}}
+        return data
 
     @model_validator(mode="after")
     def _refs(self) -> TransmissionConfig:
@@ -211,6 +389,18 @@ class TransmissionConfig(_Strict):
             check(u.at, f"unbalance[{i}].at")
         for i, x in enumerate(self.external_loads):
             check(x.at, f"external_loads[{i}].at")
+        for i, d in enumerate(self.discs):
+            check(d.at, f"discs[{i}] '{d.name}'.at")
+        for i, b in enumerate(self.supports):
+            check(b.at, f"supports[{i}] '{b.name}'.at")
+        for i, d in enumerate(self.dashpots):
+            check(d.at, f"dashpots[{i}] '{d.name}'.at")
+            if d.to is not None:
+                check(d.to, f"dashpots[{i}] '{d.name}'.to")
+        names = [x.name for x in (*self.bearings, *self.supports, *self.discs, *self.dashpots)]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            problems.append(f"bearings/supports/discs/dashpots: names must be unique ({dup})")
         wheel_pairs = {(w.pair, w.gear) for w in self.wheels}
         mesh_pairs = {m.pair for m in self.meshes}
         for i, w in enumerate(self.wheels):

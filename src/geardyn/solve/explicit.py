@@ -79,9 +79,16 @@ def gyroscopic_args(G: dict[str, np.ndarray], spin_dofs: dict[str, list[int]]) -
 
 
 def no_loads() -> tuple:
-    """Applied-load arguments of the loops without unbalances or external loads."""
+    """Applied-load arguments of the loops without unbalances, external loads or
+    speed-dependent supports."""
     z, zi = np.zeros(0), np.zeros(0, np.int64)
-    return (zi, z, z, zi, z, z, z, z, zi, z)
+    return (zi, z, z, zi, z, z, z, z, zi, z) + no_support_tables()
+
+
+def no_support_tables() -> tuple:
+    """Empty speed-dependent support arguments of :func:`applied_loads`."""
+    return (np.zeros((0, 4), np.int64), np.zeros(0, np.int64), np.zeros((0, 2)),
+            np.zeros((0, 2, 4, 4)), np.zeros((0, 2, 4, 4)))
 
 
 @njit(cache=True)
@@ -99,10 +106,29 @@ def gyroscopic_forces(v, f, g_row, g_col, g_val, g_sh, sh_ptr, sh_dofs, om
 
 @njit(cache=True)
 def applied_loads(q, v, a, t, fx, u_dof, u_me, u_ph, x_dof, x_f0, x_amp, x_freq, x_ord,
-                  x_angdof, x_ph):  # pragma: no cover - compiled
+                  x_angdof, x_ph, s_dofs, s_wdof, s_rpm, s_dK, s_dC
+                  ):  # pragma: no cover - compiled
     """Unbalance forces (``u_dof``: x DOF of the node; θz is ``u_dof`` + 5) and external loads
-    at time ``t`` into ``fx`` (overwritten)."""
+    at time ``t`` into ``fx`` (overwritten); speed-dependent supports: −ΔK(n) u − ΔC(n) u̇ on
+    their DOFs ``s_dofs`` (x, y, θx, θy), ΔK, ΔC the change of the tabulated 4×4 coefficients
+    from the values in K and C, interpolated linearly in the shaft speed n = |θ̇z| (rpm) of
+    ``s_wdof`` over ``s_rpm`` (held outside the table)."""
     fx[:] = 0.0
+    for i in range(s_wdof.size):
+        rpm = abs(v[s_wdof[i]]) * 30.0 / math.pi
+        nt = s_rpm.shape[1]
+        k = 0
+        while k < nt - 2 and rpm > s_rpm[i, k + 1]:
+            k += 1
+        w = (rpm - s_rpm[i, k]) / (s_rpm[i, k + 1] - s_rpm[i, k])
+        w = min(1.0, max(0.0, w))
+        for r in range(4):
+            acc = 0.0
+            for c in range(4):
+                d = s_dofs[i, c]
+                acc += ((1.0 - w) * s_dK[i, k, r, c] + w * s_dK[i, k + 1, r, c]) * q[d]
+                acc += ((1.0 - w) * s_dC[i, k, r, c] + w * s_dC[i, k + 1, r, c]) * v[d]
+            fx[s_dofs[i, r]] -= acc
     for i in range(u_dof.size):
         d = u_dof[i]
         th = q[d + 5] + u_ph[i]
@@ -181,9 +207,13 @@ def linear_args(K: np.ndarray, C: np.ndarray | ModalDamping) -> tuple[tuple, tup
     a :class:`ModalDamping`: sparse + low rank, no dense C."""
     K = np.asarray(K, dtype=float)
     n = K.shape[0]
+    # non-symmetric K or C (cross-coupled supports): the row passes below read columns, so
+    # they get the transposes (symmetric matrices are passed as they are: the same bits)
     if isinstance(C, ModalDamping):
         S = np.asarray(C.stiffness, dtype=float)
-        rows, cols = np.nonzero((K != 0.0) | (S != 0.0))
+        if not (np.array_equal(K, K.T) and np.array_equal(S, S.T)):
+            K, S = K.T.copy(), S.T.copy()
+        rows, cols = np.nonzero((K != 0.0) | (S != 0.0) | (K.T != 0.0) | (S.T != 0.0))
         bdat = S[rows, cols].copy()
         B = np.ascontiguousarray(C.basis, dtype=float)
         BT, w, Cd = np.ascontiguousarray(B.T), np.asarray(C.weights, float), np.zeros((0, 0))
@@ -191,7 +221,8 @@ def linear_args(K: np.ndarray, C: np.ndarray | ModalDamping) -> tuple[tuple, tup
         rows, cols = np.nonzero(K)
         bdat = np.zeros(0)
         B, BT, w = np.zeros((n, 0)), np.zeros((0, n)), np.zeros(0)
-        Cd = np.ascontiguousarray(C, dtype=float)
+        C = np.asarray(C, dtype=float)
+        Cd = np.ascontiguousarray(C if np.array_equal(C, C.T) else C.T)
     # CSC: column j lists the rows i of its entries (np.nonzero is row-major: sort by column)
     o = np.lexsort((rows, cols))
     rows, cols = rows[o], cols[o]
@@ -544,7 +575,9 @@ def run_loop(
     Minv = csc(Minv)
     K, C = linear_args(K, C)
     xargs = xargs if xargs is not None else no_loads()
-    nx = xargs[0].size + xargs[3].size
+    if len(xargs) == 10:  # unbalances and external loads only (no speed-dependent supports)
+        xargs = tuple(xargs) + no_support_tables()
+    nx = xargs[0].size + xargs[3].size + xargs[11].size
     ctl = control or RunControl()
     n = q.size
     nb = bargs[0].size

@@ -102,6 +102,26 @@ class Meshes:
 
 
 @dataclass
+class SupportPart:
+    """A linear support of the model: global DOFs (x, y, θx, θy) of its node and its 4×4
+    stiffness and damping at the run's speed (force on the housing K u + C u̇)."""
+
+    name: str
+    node: int
+    K: np.ndarray
+    C: np.ndarray
+    kzz: float = 0.0
+    """Axial stiffness [N/m]."""
+    table: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    """Speed table: (speeds rpm, K(n_i) − K, C(n_i) − C) for a speed that varies in the run;
+    K, C are the values at the run's start speed (in the model's K and C_lin)."""
+
+    @property
+    def dofs(self) -> np.ndarray:
+        return 6 * self.node + np.array([0, 1, 3, 4])
+
+
+@dataclass
 class TransmissionModel:
     """Assembled model: matrices (SI), connecting-force parameters, node bookkeeping."""
 
@@ -122,6 +142,12 @@ class TransmissionModel:
     """Per shaft: gyroscopic matrix (shaft elements + its wheels) per rad/s of that shaft."""
     assembly: Assembly | None = None
     """The linear elements on the assembly core (Timoshenko elements, wheel discs)."""
+    C_lin: np.ndarray | None = None
+    """Damping of the linear supports and dashpots [N·s/m…] (None: none), added to the
+    modal damping."""
+    supports: list[SupportPart] = field(default_factory=list)
+    discs: dict[str, int] = field(default_factory=dict)
+    """Plain disc name → global node."""
 
     @property
     def dof_names(self) -> list[str]:
@@ -271,6 +297,14 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
         )
         asm.add_block(f"wheel.{w.pair}.{w.gear}", w.at.shaft, node_dofs(w.at.shaft, w.at.node),
                       M=rigid_disc(mass, ip, idia), G=disc_gyroscopic(ip))
+    # --- plain discs (rigid, centre of mass ``offset_m`` along z from the node: x_cm =
+    # x + e θy, y_cm = y − e θx with θy = dx/dz, θx = −dy/dz; M = Tᵀ M_cm T)
+    for d in t.discs:
+        mass, ip, idia = d.properties()
+        T = np.eye(6)
+        T[0, 4], T[1, 3] = d.offset_m, -d.offset_m
+        asm.add_block(f"disc.{d.name}", d.at.shaft, node_dofs(d.at.shaft, d.at.node),
+                      M=T.T @ rigid_disc(mass, ip, idia) @ T, G=disc_gyroscopic(ip))
     K = asm.matrix("K")
     M = asm.matrix("M")
     gyro = {s.name: asm.matrix("G", kinds=[s.name]) for s in t.shafts}
@@ -393,12 +427,62 @@ def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionMo
                 V[i, k, 6:9] = -n3
                 V[i, k, 9:12] = -np.cross(p_b, n3)
     drive_node, load_node = node(t.drive.at), node(t.load.at)
+    # --- linear supports and dashpots: constant matrices added to K and to C_lin
+    supports, C_lin = _linear_parts(t, K, node, shaft_nodes, Mh)
     return TransmissionModel(
         M=M, K=K, node_xyz=node_xyz, shaft_nodes=shaft_nodes, shaft_sign=sign, bearings=B,
         meshes=Mh, drive_node=drive_node, load_node=load_node,
         drive_torque=t.drive.torque_nm, load_torque=t.load.torque_nm,
-        modal_damping=t.modal_damping, gyroscopic=gyro, assembly=asm,
+        modal_damping=t.modal_damping, gyroscopic=gyro, assembly=asm, C_lin=C_lin,
+        supports=supports, discs={d.name: node(d.at) for d in t.discs},
     )
+
+
+def _linear_parts(t, K: np.ndarray, node, shaft_nodes: dict[str, list[int]],  # noqa: ANN001
+                  meshes: Meshes) -> tuple[list[SupportPart], np.ndarray | None]:
+    """Stamp the linear supports (4×4 on x, y, θx, θy; axial kzz, czz) and dashpots into K
+    (in place) and a damping matrix; speed-tabulated coefficients are evaluated at the run's
+    start speed (``speed_law.start_rpm`` of its reference, or ``simulation.initial_rpm`` of
+    the drive shaft, times the shaft's speed ratio) and their table kept for the loops, which
+    follow the current speed (:func:`geardyn.solve.explicit.applied_loads`)."""
+    from types import SimpleNamespace
+
+    if not t.supports and not t.dashpots:
+        return [], None
+    n = K.shape[0]
+    C = np.zeros((n, n))
+    ref_shaft = t.drive.at.shaft
+    if t.speed_law is not None:
+        ref_shaft = t.speed_law.reference.shaft
+        ref_rpm = t.speed_law.start_rpm
+    else:
+        ref_rpm = t.simulation.initial_rpm or 0.0
+    from geardyn.models.transmission.simulate import speed_ratios
+
+    ratios = speed_ratios(SimpleNamespace(meshes=meshes, shaft_nodes=shaft_nodes), ref_shaft)
+    parts = []
+    for sc in t.supports:
+        rpm = ref_rpm * ratios.get(sc.at.shaft, 0.0)
+        k4, c4 = (np.array(m, float) for m in sc.matrices(rpm))
+        nd = node(sc.at)
+        part = SupportPart(sc.name, nd, k4, c4, sc.kzz_n_per_m)
+        if sc.speeds_rpm is not None:
+            tab = [tuple(np.array(m, float) for m in sc.matrices(r)) for r in sc.speeds_rpm]
+            part.table = (np.array(sc.speeds_rpm, float),
+                          np.array([k for k, _ in tab]) - k4, np.array([c for _, c in tab]) - c4)
+        ix = np.ix_(part.dofs, part.dofs)
+        K[ix] += k4
+        C[ix] += c4
+        K[6 * nd + 2, 6 * nd + 2] += sc.kzz_n_per_m
+        C[6 * nd + 2, 6 * nd + 2] += sc.czz_ns_per_m
+        parts.append(part)
+    for d in t.dashpots:
+        j = 6 * node(d.at) + NODE_DOFS.index(d.dof)
+        idx = [j] if d.to is None else [j, 6 * node(d.to) + NODE_DOFS.index(d.dof)]
+        e = np.array([1.0, -1.0][: len(idx)])
+        K[np.ix_(idx, idx)] += d.stiffness * np.outer(e, e)
+        C[np.ix_(idx, idx)] += d.damping * np.outer(e, e)
+    return parts, C
 
 
 def _pair_tables(g, tb, corrections=None, extended: bool = True):  # noqa: ANN001, ANN202

@@ -80,6 +80,12 @@ def element_tangents(model: TransmissionModel, q: np.ndarray, h: float = 1e-9
         dofs = np.concatenate([6 * int(mh.na[i]) + node, 6 * int(mh.nb[i]) + node])
         fm = force_of(mesh_forces, _one(mh, i).args(), (1,))
         out.append((f"mesh.{name}", dofs, tangent(fm, dofs)))
+    for sp in model.supports:  # linear supports (x, y, θx, θy) and their axial stiffness
+        dofs = np.concatenate([sp.dofs, [6 * sp.node + 2]])
+        k = np.zeros((5, 5))
+        k[:4, :4] = 0.5 * (sp.K + sp.K.T)
+        k[4, 4] = sp.kzz
+        out.append((f"support.{sp.name}", dofs, k))
     return out
 
 
@@ -117,7 +123,7 @@ def fe_modes(model: TransmissionModel, prepared=None):  # noqa: ANN001, ANN201
         share = {g: float(frac[i, sel].sum()) for g, sel in groups.items()}
         g = max(share, key=share.get)
         types.append(g if share[g] >= 0.5 else "mixed")
-    bins = [e[0].split(".", 1)[0] if e[0].split(".", 1)[0] in ("bearing", "mesh")
+    bins = [e[0].split(".", 1)[0] if e[0].split(".", 1)[0] in ("bearing", "mesh", "support")
             else "shaft" for e in elements]
     return ModalResult(f, phi, em.multiplicity, types, kinetic_energy(M, f, phi), strain,
                        list(names), [e[0] for e in elements], bins, frac)
@@ -148,4 +154,59 @@ def fe_campbell(model: TransmissionModel, prepared, speeds_rpm: np.ndarray,  # n
     return cd
 
 
-__all__ = ["MOTION", "NODE_DOFS", "RIGID_HZ", "element_tangents", "fe_campbell", "fe_modes"]
+def damped_modes(model: TransmissionModel, prepared, speed_rpm: float = 0.0,  # noqa: ANN001
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Complex modes of M q̈ + (C + Σ_s Ω_s G_s) q̇ + K_lin q = 0 at ``speed_rpm`` of the
+    reference shaft (``prepared.speed_ratio``): C the run's damping (modal + supports and
+    dashpots, ``prepared.C``), state-space eigenvalues λ of [[0, I], [−M⁻¹K, −M⁻¹C_Ω]]
+    (Friswell et al. 2010, §3.7). Returns (ω_n = |λ| [rad/s], ω_d = Im λ [rad/s], ζ = −Re λ/|λ|)
+    of the eigenvalues with Im λ > 0, sorted by ω_n; ``ω_n/2π`` is ROSS's ``wn``."""
+    import math
+
+    from scipy.linalg import eig, solve
+
+    M, K = model.M, prepared.K_lin
+    C = np.array(prepared.C, float)
+    w = speed_rpm * math.pi / 30.0
+    for s, g in model.gyroscopic.items():
+        C = C + model.shaft_sign[s] * prepared.speed_ratio.get(s, 0.0) * w * g
+    n = M.shape[0]
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -solve(M, K)
+    A[n:, n:] = -solve(M, C)
+    lam = eig(A, right=False)
+    # oscillating modes only: Im λ > 0, above the rigid-body rotation (< RIGID_HZ)
+    lam = lam[(lam.imag > 0) & (np.abs(lam) >= 2 * math.pi * RIGID_HZ)]
+    wn = np.abs(lam)
+    o = np.argsort(wn)
+    return wn[o], lam.imag[o], -lam.real[o] / wn[o]
+
+
+def unbalance_response(model: TransmissionModel, prepared, speed_rpm: float,  # noqa: ANN001
+                       node: int, mass_eccentricity: float, phase_deg: float = 0.0
+                       ) -> np.ndarray:
+    """Steady 1× response (complex amplitudes of every DOF, m and rad, e^{iΩt} convention) to
+    an unbalance m e at global ``node`` at constant ``speed_rpm`` of the reference shaft:
+    (K_lin − Ω² M + iΩ (C + Σ_s Ω_s G_s)) X = F, F_x = m e Ω² e^{iφ}, F_y = −i F_x (the force
+    m e Ω² (cos(Ωt + φ), sin(Ωt + φ)) of :func:`geardyn.solve.explicit.applied_loads`;
+    Friswell et al. 2010, §3.8)."""
+    import math
+
+    M, K = model.M, prepared.K_lin
+    w = speed_rpm * math.pi / 30.0
+    C = np.array(prepared.C, float)
+    for s, g in model.gyroscopic.items():
+        C = C + model.shaft_sign[s] * prepared.speed_ratio.get(s, 0.0) * w * g
+    n = M.shape[0]
+    F = np.zeros(n, complex)
+    F[6 * node] = mass_eccentricity * w * w * np.exp(1j * math.radians(phase_deg))
+    F[6 * node + 1] = -1j * F[6 * node]
+    if w == 0.0:
+        return np.zeros(n, complex)
+    # rigid-body modes (free rotation, free axial motion) keep −Ω² M: A is regular for Ω > 0
+    return np.linalg.solve(K - w * w * M + 1j * w * C, F)
+
+
+__all__ = ["MOTION", "NODE_DOFS", "RIGID_HZ", "damped_modes", "element_tangents",
+           "fe_campbell", "fe_modes", "unbalance_response"]

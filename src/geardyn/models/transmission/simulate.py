@@ -67,7 +67,16 @@ def with_mass(model: TransmissionModel, t) -> TransmissionModel:  # noqa: ANN001
         for e in range(s.elements):
             a = 6 * ids[e]
             d[a : a + 12] += np.diag(ml) - np.diag(mc)
-    return replace(model, M=np.diag(d))
+    M = np.diag(d)
+    for disc in getattr(t, "discs", []):  # an offset disc keeps its x–θy, y–θx coupling
+        if disc.offset_m != 0.0:
+            m = disc.properties()[0]
+            a = 6 * model.node_of(disc.at.shaft, disc.at.node)
+            M[a, a + 4] += m * disc.offset_m
+            M[a + 4, a] += m * disc.offset_m
+            M[a + 1, a + 3] -= m * disc.offset_m
+            M[a + 3, a + 1] -= m * disc.offset_m
+    return replace(model, M=M)
 
 
 def connecting_jacobian(model: TransmissionModel, q: np.ndarray, h: float = 1e-9) -> np.ndarray:
@@ -107,9 +116,18 @@ def prepare(model: TransmissionModel, reference_shaft: str | None = None) -> Pre
     with single_thread_blas():
         q0 = static_equilibrium(model, model.load_torque)
         K_lin = model.K + connecting_jacobian(model, q0)
-        f, _ = modal_analysis(model.M, K_lin)
-        C = modal_damping_matrix(model.M, K_lin, model.modal_damping)
-        dt = explicit.stable_time_step(model.M, K_lin)
+        K_sym = K_lin if model.C_lin is None else 0.5 * (K_lin + K_lin.T)
+        f, phi = modal_analysis(model.M, K_sym)
+        C = modal_damping_matrix(model.M, K_sym, model.modal_damping)
+        dt = explicit.stable_time_step(model.M, K_sym)
+        if model.C_lin is not None:
+            # supports and dashpots: their damping adds to the modal one; the explicit limit
+            # of the highest modes with their damping ratio ξ = φᵀ C φ / (2ω) (mass-normalised
+            # φ, :func:`geardyn.solve.explicit.damped_step_limit`)
+            C = C + model.C_lin
+            w = 2 * math.pi * f[-4:]
+            xi = np.einsum("ij,ik,kj->j", phi[:, -4:], C, phi[:, -4:]) / (2 * w)
+            dt *= 0.5 * explicit.damped_step_limit(float(max(0.0, xi.max())))
     ref = reference_shaft or next(iter(model.shaft_nodes))
     return Prepared(model, q0, K_lin, C, f, dt, speed_ratios(model, ref))
 
@@ -121,9 +139,15 @@ def damping_operator(prep: Prepared, cutoff_hz: float | None
     :func:`geardyn.solve.explicit.modal_damping` (ratio ζ below the cutoff, ζ f/f_c above) and
     the loop's damped limit :func:`geardyn.solve.explicit.damped_step_limit` (ξ) / ω_max for
     the ratio ξ of the highest mode (it binds: ξ grows with ω)."""
+    m = prep.model
+    if cutoff_hz is None and m.modal_damping == 0.0:
+        # no modal damping: only the supports' and dashpots' (sparse), no dense n² product
+        n = m.ndof
+        S = m.C_lin if m.C_lin is not None else np.zeros((n, n))
+        return explicit.ModalDamping(S, np.zeros((n, 0)), np.zeros(0), np.zeros(n),
+                                     np.asarray(prep.frequencies_hz)), prep.dt_stable
     if cutoff_hz is None:
         return prep.C, prep.dt_stable
-    m = prep.model
     elastic = np.sort(np.asarray(prep.frequencies_hz, float))
     elastic = elastic[elastic >= 0.5]  # above the drive line's rigid-body rotation
     if elastic.size and cutoff_hz <= elastic[0]:
@@ -133,8 +157,11 @@ def damping_operator(prep: Prepared, cutoff_hz: float | None
             f"{m.modal_damping * elastic[-1] / cutoff_hz:.3g} on the highest, and the damped "
             "explicit step would shrink accordingly; choose a cutoff above the modes of "
             "interest (e.g. 2-4 kHz for seed 002)")
-    op = explicit.modal_damping(m.M, prep.K_lin, m.modal_damping, cutoff_hz)
+    op = explicit.modal_damping(m.M, 0.5 * (prep.K_lin + prep.K_lin.T), m.modal_damping,
+                                cutoff_hz)
     xi = float(op.ratios[-1])
+    if m.C_lin is not None:  # supports and dashpots: in the sparse part
+        op = op._replace(stiffness=np.asarray(op.stiffness) + m.C_lin)
     return op, prep.dt_stable * 0.5 * explicit.damped_step_limit(xi)
 
 
@@ -186,12 +213,43 @@ def simulate(
         w0 = w1 = t.simulation.initial_rpm * math.pi / 30
         duration = t.simulation.duration_s
     damping, dt_limit = damping_operator(prep, getattr(t, "modal_damping_cutoff_hz", None))
-    dt = t.simulation.time_step_s or 0.8 * dt_limit
+    for sp in model.supports:  # the explicit limit with the stiffest tabulated coefficients
+        if sp.table is not None and t.simulation.integrator != "exponential":
+            ix = np.ix_(sp.dofs, sp.dofs)
+            for dk in sp.table[1]:
+                Kt = 0.5 * (prep.K_lin + prep.K_lin.T)
+                Kt[ix] += 0.5 * (dk + dk.T)
+                dt_limit = min(dt_limit, explicit.stable_time_step(model.M, Kt)
+                               * dt_limit / prep.dt_stable)
+    w_top = max(abs(w0), abs(w1))
+    mesh_period = _mesh_period(model, ratios, w_top)
+    scheme, dt_newmark = choose_integrator(t.simulation, dt_limit, mesh_period,
+                                           w_top * max(ratios.values()) / (2 * math.pi),
+                                           float(model.meshes.npc.max(initial=0.0)))
+    gyro0 = None
+    if t.simulation.gyroscopic:
+        gyro0 = sum(model.shaft_sign[s] * ratios.get(s, 0.0) * w0 * g
+                    for s, g in model.gyroscopic.items())
+    if t.simulation.integrator in ("auto", "exponential"):
+        from geardyn.models.transmission.exact import exponential_reason
+
+        reason = exponential_reason(model, t, w0, w1, dense_damping(damping), gyro0)
+        if t.simulation.integrator == "exponential" and reason:
+            raise ConfigError("transmission.simulation.integrator: 'exponential' applies to "
+                              f"linear rotors at constant speed only: {reason}")
+        if not reason:
+            scheme = "exponential"
+    if scheme == "newmark":
+        dt = t.simulation.time_step_s or dt_newmark
+    elif scheme == "exponential":
+        dt = t.simulation.time_step_s or 1.0 / t.simulation.record_rate_hz
+    else:
+        dt = t.simulation.time_step_s or 0.8 * dt_limit
     if check_step:
         check_time_step(dt, "transmission.simulation.time_step_s" if t.simulation.time_step_s
-                        else "transmission.simulation.time_step_s (default: 0.8 × stability "
-                        "limit)", mesh_period_s=_mesh_period(model, ratios, max(abs(w0), abs(w1))),
-                        stable_limit_s=dt_limit)
+                        else f"transmission.simulation.time_step_s (default: {scheme} step)",
+                        mesh_period_s=mesh_period,
+                        stable_limit_s=dt_limit if scheme == "explicit" else None)
     n_steps = int(math.ceil(duration / dt))
     rec_every = max(1, int(round(1.0 / (t.simulation.record_rate_hz * dt))))
     # rigid-body initial speeds on θz
@@ -217,50 +275,49 @@ def simulate(
         kp = ki = 0.0
         t_drive0 = model.drive_torque
     shafts = list(model.shaft_nodes)
-    rec_dofs = np.array([6 * model.shaft_nodes[s][0] + 5 for s in shafts], dtype=np.int64)
+    extra, support_ix = recorded_dofs(model, t.simulation.record)
+    rec_dofs = np.array([6 * model.shaft_nodes[s][0] + 5 for s in shafts] + extra,
+                        dtype=np.int64)
     ref_node = model.node_of(ref_shaft, ref_local)
-    Minv = np.linalg.inv(model.M)
+    gargs = explicit.gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
+                                                       for s, ids in model.shaft_nodes.items()}
+                                     ) if t.simulation.gyroscopic else None
+    tables = [sp for sp in model.supports if sp.table is not None]
+    varying = (sl is not None and sl.start_rpm != sl.end_rpm) or model.drive_torque != 0.0 \
+        or model.load_torque != 0.0
+    if not varying:
+        tables = []
+    xargs = load_args(model, t, tables) if (t.unbalance or t.external_loads or tables) \
+        else None
+    common = (model.bearings.args(), model.meshes.args(),
+              6 * model.drive_node + 5, 6 * model.load_node + 5, 6 * ref_node + 5,
+              model.node_sign(model.drive_node), model.node_sign(model.load_node),
+              model.node_sign(ref_node), model.load_torque,
+              np.array([0.0, duration, duration * 10 + 1.0]), np.array([w0, w1, w1]),
+              kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs)
     t1 = _time.perf_counter()
-    rec, energy, n_done, status, q, vend, _ = explicit.run_loop(
-        prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, damping,
-        model.bearings.args(), model.meshes.args(),
-        6 * model.drive_node + 5, 6 * model.load_node + 5, 6 * ref_node + 5,
-        model.node_sign(model.drive_node), model.node_sign(model.load_node),
-        model.node_sign(ref_node), model.load_torque,
-        np.array([0.0, duration, duration * 10 + 1.0]), np.array([w0, w1, w1]),
-        kp, ki, t_drive0, 0.0, MAX_DISPLACEMENT_M, rec_dofs, control=control,
-        gargs=explicit.gyroscopic_args(model.gyroscopic, {s: [6 * nd + 5 for nd in ids]
-                                                 for s, ids in model.shaft_nodes.items()})
-        if t.simulation.gyroscopic else None,
-        xargs=load_args(model, t) if (t.unbalance or t.external_loads) else None,
-    )
+    newton = None
+    if scheme == "exponential":
+        from geardyn.models.transmission.exact import run_exponential
+
+        rec, energy, q, vend = run_exponential(model, t, dense_damping(damping), gyro0,
+                                               prep.q0.copy(), v, dt, n_steps, rec_dofs)
+        rec = rec[::rec_every]
+        n_done, status = n_steps, 0
+    elif scheme == "newmark":
+        from geardyn.solve import implicit_fe
+
+        rec, energy, n_done, status, q, vend, _, newton = implicit_fe.run_loop(
+            prep.q0.copy(), v, dt, n_steps, rec_every, model.M, model.K, prep.K_lin, damping,
+            sparse_damping(damping), *common, control=control, gargs=gargs, xargs=xargs,
+            gyro0=gyro0)
+    else:
+        Minv = np.linalg.inv(model.M)
+        rec, energy, n_done, status, q, vend, _ = explicit.run_loop(
+            prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, damping, *common,
+            control=control, gargs=gargs, xargs=xargs)
     t_run = _time.perf_counter() - t1
-    nd = len(shafts)
-    nb = model.bearings.node.size
-    time = rec[:, 0]
-    sign = np.array([model.shaft_sign[s] for s in shafts])
-    links = {sc.name: (sc.link or sc.name) for sc in t.shafts}
-    o_b = 2 + 2 * nd
-    ds = xr.Dataset(
-        {
-            "drive_torque": ("time", rec[:, 1], {"units": "N·m", "long_name": "drive torque"}),
-            **shaft_variables(time, shafts, rec[:, 2 : 2 + nd] * sign,
-                              rec[:, 2 + nd : 2 + 2 * nd] * sign),
-            "bearing_load": (("time", "bearing"), rec[:, o_b : o_b + nb],
-                             {"units": "N", "long_name": "Σ rolling-element loads"}),
-            "bearing_force": (("time", "bearing", "axis"),
-                              # view of the x then y column blocks (no copy)
-                              rec[:, o_b + nb : o_b + 3 * nb].reshape(-1, 2, nb)
-                              .transpose(0, 2, 1),
-                              {"units": "N", "long_name": "force of the bearing on the housing"}),
-            "mesh_force": (("time", "mesh"), rec[:, o_b + 3 * nb :],
-                           {"units": "N", "long_name": "normal force, transverse LOA"}),
-        },
-        coords={"time": ("time", time, {"units": "s"}), "shaft": shafts,
-                "link": ("shaft", [links.get(s, s) for s in shafts]),
-                "bearing": model.bearings.names, "mesh": model.meshes.names,
-                "axis": ["x", "y"]},
-    )
+    ds = records_dataset(rec, model, t, shafts, len(extra), support_ix)
     names = ["input_J", "output_J", "bearing_viscous_J", "rolling_resistance_J",
              "gear_friction_J", "squeeze_film_J", "modal_damping_J", "external_loads_J"]
     ds.attrs.update({f"energy_{k}": float(e) for k, e in zip(names, energy, strict=True)})
@@ -268,10 +325,16 @@ def simulate(
     ke1 = 0.5 * vend @ model.M @ vend
     ds.attrs.update({
         "kinetic_energy_start_J": float(ke0), "kinetic_energy_end_J": float(ke1),
-        "time_step_s": dt, "steps": int(n_done), "wall_prepare_s": t_prep,
+        "time_step_s": dt, "steps": int(n_done), "wall_prepare_s": t_prep, "integrator": scheme,
         "wall_integrate_s": t_run, "reference_shaft": ref_shaft,
         "natural_frequencies_hz": prep.frequencies_hz[prep.frequencies_hz > 1.0][:30],
     })
+    if scheme == "exponential":
+        ds.attrs["energy_balance"] = ("exact integration: the damping dissipation "
+                                      "(energy_modal_damping_J) is the balance of the others")
+    if newton is not None:
+        ds.attrs["newton_iterations_per_step"] = float(newton[0] / max(1, n_done))
+        ds.attrs["newton_unconverged_steps"] = int(newton[1])
     finish(ds, "transmission", ref_shaft)
     if status == 2:
         ds.attrs["status"] = "interrupted"
@@ -293,6 +356,170 @@ def simulate(
             ds,
         )
     return ds
+
+
+#: Newmark steps per period of the highest resolved frequency (average acceleration: period
+#: error (ω dt)²/12 = 0.8 % there, Géradin & Rixen 2015 §7.3; below it falls as f²).
+STEPS_PER_PERIOD = 20
+#: Default resolved frequency: mesh harmonics up to this fraction of the mesh-stiffness table's
+#: points per cycle (a quarter: the table's content up to half its Nyquist order), shaft
+#: orders up to :data:`SHAFT_ORDERS`.
+MESH_HARMONICS_PER_POINT = 0.25
+SHAFT_ORDERS = 10
+#: ``auto`` takes Newmark when its step is this many times the explicit one (a Newmark step
+#: costs ≈ 2-3 force evaluations and a banded solve).
+AUTO_RATIO = 4.0
+
+
+def choose_integrator(sim, dt_limit: float, mesh_period: float | None,  # noqa: ANN001
+                      shaft_hz: float, table_points: float = 0.0) -> tuple[str, float]:
+    """(scheme, Newmark step [s]) for ``sim`` (SimulationConfig): the Newmark step resolves
+    ``resolved_frequency_hz`` with :data:`STEPS_PER_PERIOD` steps, by default the highest of
+    the mesh harmonic :data:`MESH_HARMONICS_PER_POINT` × ``table_points`` (points per mesh
+    cycle of the stiffness tables) at the top mesh frequency and :data:`SHAFT_ORDERS` × the
+    top shaft speed; ``auto`` picks Newmark when that step is :data:`AUTO_RATIO` × the explicit
+    one (0.8 × ``dt_limit``) or more."""
+    f = sim.resolved_frequency_hz
+    if f is None:
+        harmonics = max(1.0, MESH_HARMONICS_PER_POINT * table_points)
+        f = max(harmonics / mesh_period if mesh_period else 0.0, SHAFT_ORDERS * shaft_hz)
+    if not f > 0:
+        f = 0.5 / dt_limit  # at rest, no mesh: the explicit step's scale
+    dt_newmark = 1.0 / (STEPS_PER_PERIOD * f)
+    scheme = sim.integrator
+    if scheme == "auto":
+        scheme = "newmark" if dt_newmark >= AUTO_RATIO * 0.8 * dt_limit else "explicit"
+    return scheme, dt_newmark
+
+
+def dense_damping(damping) -> np.ndarray:  # noqa: ANN001
+    """The loop's damping as one dense matrix (a :class:`~geardyn.solve.explicit.ModalDamping`
+    summed: S + B diag(w) Bᵀ)."""
+    if isinstance(damping, explicit.ModalDamping):
+        B = np.asarray(damping.basis, float)
+        return np.asarray(damping.stiffness, float) + (B * damping.weights) @ B.T
+    return np.asarray(damping, float)
+
+
+def sparse_damping(damping) -> np.ndarray | None:  # noqa: ANN001
+    """The sparse part of the loop's damping for the Newmark step matrix: the
+    stiffness-proportional + supports part of a :class:`~geardyn.solve.explicit.ModalDamping`;
+    a dense damping matrix enters the step matrix only if it is sparse (supports and dashpots
+    alone), else it stays in the residual (modified Newton)."""
+    if isinstance(damping, explicit.ModalDamping):
+        return np.asarray(damping.stiffness, float)
+    C = np.asarray(damping, float)
+    return C if np.count_nonzero(C) <= 0.1 * C.size else None
+
+
+def recorded_dofs(model: TransmissionModel, names: list[str]
+                  ) -> tuple[list[int], list[tuple[str, list[int]]]]:
+    """Global DOFs recorded besides the shaft angles for ``simulation.record``: a DOF name
+    (``{shaft}.n{i}.{x,y,z,rx,ry,rz}``), a disc name (its node's x, y) or a support name (its
+    node's x, y, θx, θy, for its force). Returns (DOFs in record order, per support its name
+    and the positions of its four DOFs in that list)."""
+    dof_names = model.dof_names
+    index = {n: i for i, n in enumerate(dof_names)}
+    supports = {s.name: s for s in model.supports}
+    dofs: list[int] = []
+
+    def add(j: int) -> int:
+        if j not in dofs:
+            dofs.append(j)
+        return dofs.index(j)
+
+    sup: list[tuple[str, list[int]]] = []
+    for i, name in enumerate(names):
+        if name in index:
+            add(index[name])
+        elif name in model.discs:
+            for k in (0, 1):
+                add(6 * model.discs[name] + k)
+        elif name in supports:
+            sp = supports[name]
+            ix = [add(int(j)) for j in sp.dofs]
+            if sp.table is not None:  # its speed, for the tabulated coefficients
+                ix.append(add(6 * sp.node + 5))
+            sup.append((name, ix))
+        else:
+            known = sorted([*model.discs, *supports])
+            raise ConfigError(
+                f"transmission.simulation.record[{i}]: '{name}' is no DOF "
+                "('{shaft}.n{i}.{x,y,z,rx,ry,rz}', e.g. " f"'{dof_names[0]}'), disc or support "
+                f"(discs and supports: {', '.join(known) or 'none'})")
+    return dofs, sup
+
+
+def records_dataset(rec: np.ndarray, model: TransmissionModel, t, shafts: list[str],  # noqa: ANN001
+                    n_extra: int, support_ix: list[tuple[str, list[int]]]) -> xr.Dataset:
+    """The run's Dataset from the record columns of :func:`geardyn.solve.explicit.run_chunk`
+    (``rec_dofs`` = the shafts' θz, then ``n_extra`` recorded DOFs): shaft angles and speeds,
+    bearings, meshes, recorded displacements/velocities and support forces."""
+    nd = len(shafts)
+    nr = nd + n_extra
+    nb = model.bearings.node.size
+    time = rec[:, 0]
+    sign = np.array([model.shaft_sign[s] for s in shafts])
+    links = {sc.name: (sc.link or sc.name) for sc in t.shafts}
+    o_b = 2 + 2 * nr
+    variables = {
+        "drive_torque": ("time", rec[:, 1], {"units": "N·m", "long_name": "drive torque"}),
+        **shaft_variables(time, shafts, rec[:, 2 : 2 + nd] * sign,
+                          rec[:, 2 + nr : 2 + nr + nd] * sign),
+        "bearing_load": (("time", "bearing"), rec[:, o_b : o_b + nb],
+                         {"units": "N", "long_name": "Σ rolling-element loads"}),
+        "bearing_force": (("time", "bearing", "axis"),
+                          # view of the x then y column blocks (no copy)
+                          rec[:, o_b + nb : o_b + 3 * nb].reshape(rec.shape[0], 2, nb)
+                          .transpose(0, 2, 1),
+                          {"units": "N", "long_name": "force of the bearing on the housing"}),
+        "mesh_force": (("time", "mesh"), rec[:, o_b + 3 * nb :],
+                       {"units": "N", "long_name": "normal force, transverse LOA"}),
+    }
+    coords = {"time": ("time", time, {"units": "s"}), "shaft": shafts,
+              "link": ("shaft", [links.get(s, s) for s in shafts]),
+              "bearing": model.bearings.names, "mesh": model.meshes.names,
+              "axis": ["x", "y"]}
+    if n_extra:
+        names = [model.dof_names[j] for j in _extra_dofs(t, model)]
+        units = ["m" if n.rsplit(".", 1)[1] in ("x", "y", "z") else "rad" for n in names]
+        q = rec[:, 2 + nd : 2 + nr]
+        v = rec[:, 2 + nr + nd : 2 + 2 * nr]
+        variables["displacement"] = (("time", "dof"), q, {
+            "units": "m (x, y, z), rad (rx, ry, rz)", "long_name": "recorded DOFs"})
+        variables["velocity"] = (("time", "dof"), v, {
+            "units": "m/s (x, y, z), rad/s (rx, ry, rz)", "long_name": "recorded DOF rates"})
+        coords["dof"] = names
+        coords["dof_units"] = ("dof", units)
+    if support_ix:
+        sup = {s.name: s for s in model.supports}
+        f = np.zeros((rec.shape[0], len(support_ix), 2))
+        for k, (name, ix) in enumerate(support_ix):
+            s = sup[name]
+            u = rec[:, 2 + nd + np.array(ix[:4])]
+            ud = rec[:, 2 + nr + nd + np.array(ix[:4])]
+            K = np.broadcast_to(s.K, (rec.shape[0], 4, 4))
+            C = np.broadcast_to(s.C, (rec.shape[0], 4, 4))
+            if s.table is not None:  # coefficients at the recorded speed of its node
+                rpm = np.abs(rec[:, 2 + nr + nd + ix[4]]) * 30 / np.pi
+                K = K + _table_interp(rpm, s.table[0], s.table[1])
+                C = C + _table_interp(rpm, s.table[0], s.table[2])
+            f[:, k, :] = (np.einsum("trc,tc->tr", K, u) + np.einsum("trc,tc->tr", C, ud))[:, :2]
+        variables["support_force"] = (("time", "support", "axis"), f, {
+            "units": "N", "long_name": "force of the support on the housing, K u + C u̇"})
+        coords["support"] = [n for n, _ in support_ix]
+    return xr.Dataset(variables, coords=coords)
+
+
+def _table_interp(rpm: np.ndarray, speeds: np.ndarray, mats: np.ndarray) -> np.ndarray:
+    """(n, 4, 4) linear interpolation of ``mats`` (nt, 4, 4) at ``rpm`` (held outside)."""
+    flat = mats.reshape(mats.shape[0], -1)
+    out = np.stack([np.interp(rpm, speeds, flat[:, j]) for j in range(flat.shape[1])], axis=1)
+    return out.reshape(-1, 4, 4)
+
+
+def _extra_dofs(t, model: TransmissionModel) -> list[int]:  # noqa: ANN001
+    return recorded_dofs(model, t.simulation.record)[0]
 
 
 #: Largest translation of a node [m] before the run counts as diverged.
@@ -375,9 +602,11 @@ def energy_terms(ds: xr.Dataset) -> dict[str, float]:
 _DOF = {"x": 0, "y": 1, "z": 2, "rx": 3, "ry": 4, "rz": 5}
 
 
-def load_args(model: TransmissionModel, t) -> tuple:  # noqa: ANN001 - TransmissionConfig
+def load_args(model: TransmissionModel, t, tables: list | None = None  # noqa: ANN001
+              ) -> tuple:
     """Applied-load arguments of the loop (:func:`.integrate.applied_loads`) from
-    ``transmission.unbalance`` and ``transmission.external_loads``."""
+    ``transmission.unbalance``, ``transmission.external_loads`` and the speed tables of the
+    supports in ``tables`` (:class:`.assembly.SupportPart` with a table)."""
     u_dof = np.array([6 * model.node_of(u.at.shaft, u.at.node) for u in t.unbalance], np.int64)
     u_me = np.array([u.mass_eccentricity_kg_m for u in t.unbalance], float)
     u_ph = np.radians([u.phase_deg for u in t.unbalance]).astype(float)
@@ -389,7 +618,28 @@ def load_args(model: TransmissionModel, t) -> tuple:  # noqa: ANN001 - Transmiss
             np.array([x.frequency_hz for x in xl], float),
             np.array([x.order for x in xl], float),
             np.array([6 * nd + 5 for nd in nodes], np.int64),
-            np.radians([x.phase_deg for x in xl]).astype(float))
+            np.radians([x.phase_deg for x in xl]).astype(float)) + _table_args(tables or [])
+
+
+def _table_args(tables: list) -> tuple:
+    """(DOFs (n, 4), θz DOF (n), speeds rpm (n, nt), ΔK, ΔC (n, nt, 4, 4)) padded to the
+    longest table by repeating its last point."""
+    if not tables:
+        return explicit.no_support_tables()
+    nt = max(sp.table[0].size for sp in tables)
+
+    def pad(a: np.ndarray) -> np.ndarray:
+        return np.concatenate([a, np.repeat(a[-1:], nt - a.shape[0], axis=0)])
+
+    rpm = np.array([pad(sp.table[0]) for sp in tables])
+    # repeated last speeds: nudge them up so the interpolation never divides by zero
+    for i, sp in enumerate(tables):
+        k = sp.table[0].size
+        rpm[i, k:] = rpm[i, k - 1] + np.arange(1, nt - k + 1)
+    return (np.array([sp.dofs for sp in tables], np.int64),
+            np.array([6 * sp.node + 5 for sp in tables], np.int64), rpm,
+            np.array([pad(sp.table[1]) for sp in tables]),
+            np.array([pad(sp.table[2]) for sp in tables]))
 
 
 def _shaft_of(model: TransmissionModel, node: int) -> str:

@@ -1,0 +1,153 @@
+"""Issue 24: the two-disc rotor (examples/rotor_two_discs.toml, 12 and 24 Timoshenko elements,
+3000 rpm, 2 s from rest) side by side with ROSS in one run, and the seed 002 300-revolution run.
+
+Columns: CPU seconds per simulated second (one thread) and the 1×-amplitude error of disc 1's x
+over the last 0.5 s against each code's own harmonic solution (geardyn:
+:func:`geardyn.models.transmission.modal.unbalance_response`; ROSS: ``run_unbalance_response``),
+at two accuracy levels (~1e-4, ~1e-6):
+
+- geardyn ``exponential`` (exact modal integration; output every 1e-4 s / 1e-5 s, the same
+  output density as ROSS ``lsim`` at that level), ``newmark`` (h = 6e-5 s / 6e-6 s: the
+  trapezoidal warp (Ωh)²/12 × the response's sensitivity gives ≈ 1e-4 / 1e-6), ``explicit``
+  (its stability step; one accuracy);
+- ROSS ``lsim`` (h = 1e-4 s / 1e-5 s) and ``newmark`` (h = 6e-5 s; at 6e-6 s its cost is
+  measured on 0.2 s and its error, the same trapezoidal warp as geardyn's Newmark at that
+  step, is not re-measured).
+
+ROSS is not a geardyn dependency: it runs in a separate Python given by the environment
+variable ``ROSS_PYTHON`` (default ``../ross-venv/bin/python`` beside the repository, e.g.
+``python3 -m venv ../ross-venv && ../ross-venv/bin/pip install ross-rotordynamics "plotly<6"``),
+through ``benchmarks/ross_rotor.py``; without it the ROSS rows say so and the ratios are not
+computed. Targets (issue 24): ≥ 3× faster than ROSS's fastest time response and ≥ 10× faster
+than ROSS's Newmark at both levels on 12 and 24 elements, cost ∝ elements^≤1.3, seed 002
+300-revolution run (NSC 200-900 rpm) ≤ 8 CPU s with the default mass.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+EX = ROOT / "examples" / "rotor_two_discs.toml"
+W = 100 * math.pi
+LEVELS = {"1e-4": {"exponential": 1e-4, "newmark": 6e-5, "ross_lsim": 1e-4, "ross_newmark": 6e-5},
+          "1e-6": {"exponential": 1e-5, "newmark": 6e-6, "ross_lsim": 1e-5, "ross_newmark": 6e-6}}
+
+
+def ross_python() -> Path | None:
+    p = Path(os.environ.get("ROSS_PYTHON", ROOT.parent / "ross-venv" / "bin" / "python"))
+    return p if p.exists() else None
+
+
+def _ross(py: Path, n: int, method: str, h: float, t_end: float = 2.0) -> dict:
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
+           "MKL_NUM_THREADS": "1"}
+    out = subprocess.run([str(py), str(ROOT / "benchmarks" / "ross_rotor.py"), "time", str(n),
+                          method, repr(h), repr(t_end)], capture_output=True, text=True,
+                         env=env, cwd="/tmp", check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _config(n: int, **sim):  # noqa: ANN202
+    from geardyn.config.loader import load_config, parse_config
+
+    d = load_config(EX).model_dump(exclude_none=True)
+    t = d["transmission"]
+    t["shafts"][0]["elements"] = n
+    for part, frac in ((t["discs"][0], 1 / 3), (t["discs"][1], 3 / 4), (t["unbalance"][0], 1 / 3)):
+        part["at"]["node"] = round(frac * n)
+    t["supports"][1]["at"]["node"] = n
+    t["simulation"].update(record=["disc 1"], **sim)
+    return parse_config(d)
+
+
+def _one_x(t: np.ndarray, x: np.ndarray, t_end: float = 2.0) -> complex:
+    sel = (t >= t_end - 0.5) & (t < t_end)
+    A = np.c_[np.cos(W * t[sel]), np.sin(W * t[sel]), np.ones(sel.sum())]
+    c = np.linalg.lstsq(A, x[sel], rcond=None)[0]
+    return complex(c[0], -c[1])
+
+
+def _geardyn(n: int, integrator: str, h: float | None) -> dict:
+    from geardyn.models.transmission import build_model, prepare, simulate
+    from geardyn.models.transmission.modal import unbalance_response
+
+    sim = {"integrator": integrator}
+    if h is not None:
+        sim.update(time_step_s=h, record_rate_hz=1.0 / h)
+    cfg = _config(n, **sim)
+    model = build_model(cfg)
+    prep = prepare(model)
+    node = model.discs["disc 1"]
+    ref = unbalance_response(model, prep, 3000.0, node, 1e-4)[6 * node]
+    simulate(_config(n, **{**sim, "duration_s": 0.01}), prepared=prep, model=model)  # compiled
+    c0 = time.process_time()
+    ds = simulate(cfg, prepared=prep, model=model)
+    cpu = time.process_time() - c0
+    x = ds.displacement.sel(dof=f"rotor.n{node}.x").values
+    amp = abs(_one_x(ds.time.values, x))
+    return {"cpu_per_sim_s": cpu / 2.0, "rel_error": abs(amp - abs(ref)) / abs(ref),
+            "step_s": ds.attrs["time_step_s"]}
+
+
+def _seed002_300rev() -> float:
+    from geardyn.config.loader import load_config, parse_config
+    from geardyn.models.transmission import simulate
+
+    d = load_config(ROOT / "examples" / "seed002_transmission.toml").model_dump(exclude_none=True)
+    d["transmission"]["speed_law"].update(start_rpm=200.0, end_rpm=900.0, revolutions=300.0)
+    c0 = time.process_time()
+    ds = simulate(parse_config(d))
+    return time.process_time() - c0, ds.attrs["integrator"]
+
+
+def run() -> list[dict]:
+    rows: list[dict] = []
+    py = ross_python()
+    cost: dict[tuple, float] = {}
+    for level, steps in LEVELS.items():
+        for n in (12, 24):
+            g = {k: _geardyn(n, k, steps.get(k)) for k in ("exponential", "newmark")}
+            g["explicit"] = _geardyn(n, "explicit", None) if level == "1e-4" else \
+                cost[("explicit-row", n)]
+            cost[("explicit-row", n)] = g["explicit"]
+            for k, r in g.items():
+                cost[(level, n, k)] = r["cpu_per_sim_s"]
+                rows.append({"level": level, "elements": n, "code": f"geardyn {k}",
+                             "step_s": r["step_s"], "cpu_s_per_sim_s": r["cpu_per_sim_s"],
+                             "1x_rel_error": r["rel_error"]})
+            if py is None:
+                rows.append({"level": level, "elements": n, "code": "ROSS",
+                             "note": "skipped: no ROSS Python (set ROSS_PYTHON)"})
+                continue
+            lsim = _ross(py, n, "lsim", steps["ross_lsim"])
+            short = level == "1e-6"
+            nmk = _ross(py, n, "newmark", steps["ross_newmark"], 0.2 if short else 2.0)
+            for k, r, note in (("lsim", lsim, ""), ("newmark", nmk, "cost on 0.2 s; error not "
+                               "measured" if short else "")):
+                rows.append({"level": level, "elements": n, "code": f"ROSS {k}",
+                             "step_s": steps[f"ross_{k}"], "cpu_s_per_sim_s": r["cpu_per_sim_s"],
+                             "1x_rel_error": "" if short and k == "newmark" else r["rel_error"],
+                             "note": note})
+            best = min(cost[(level, n, k)] for k in ("exponential", "newmark", "explicit"))
+            rows.append({"level": level, "elements": n, "code": "speed-up of geardyn's fastest",
+                         "note": f"vs ROSS lsim {lsim['cpu_per_sim_s'] / best:.1f}× (target ≥ 3), "
+                                 f"vs ROSS Newmark {nmk['cpu_per_sim_s'] / best:.1f}× "
+                                 "(target ≥ 10)"})
+    for k in ("exponential", "newmark", "explicit"):
+        for level in LEVELS:
+            e = math.log(cost[(level, 24, k)] / cost[(level, 12, k)]) / math.log(2.0)
+            rows.append({"level": level, "code": f"geardyn {k}: cost ∝ elements^p",
+                         "note": f"p = {e:.2f} (12 → 24 elements; target ≤ 1.3)"})
+    cpu, scheme = _seed002_300rev()
+    rows.append({"code": "seed 002 NSC 200-900 rpm / 300 rev, default (consistent) mass",
+                 "cpu_s_per_sim_s": "", "note": f"{cpu:.1f} CPU s with '{scheme}' (target ≤ 8; "
+                 f"load average {os.getloadavg()[0]:.1f})"})
+    return rows
