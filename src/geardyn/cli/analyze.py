@@ -55,7 +55,8 @@ def _reference(speeds: dict[str, float], reference: str | None, cfg) -> str:
 @app.command("analyze")
 @friendly_errors
 def analyze(
-    signal: Path = typer.Argument(..., help="signal file: .wav, .csv, .npy, .npz or .nc"),
+    signal: Path = typer.Argument(..., help="signal file: .csv/.tsv, .wav, .npy/.npz, .mat, "
+                                  ".tdms, .uff, .mf4, .h5, .nc (docs/measured.md)"),
     config: Path = typer.Option(..., "--config", "-c", help="mechanism TOML (kinematics)"),
     speed: list[str] = typer.Option(
         None, "--speed", "-s", help="constant speed LINK=RPM of the reference shaft"
@@ -77,6 +78,12 @@ def analyze(
     ),
     fs: float | None = typer.Option(None, "--fs", help="sample rate [Hz] if not in the file"),
     channel: str | None = typer.Option(None, "--channel", help="channel name or index"),
+    sensitivity: str | None = typer.Option(
+        None, "--sensitivity", help="transducer sensitivity, e.g. '100 mV/g' (file values in V "
+        "unless the file states its units)"),
+    full_scale: str | None = typer.Option(
+        None, "--full-scale", help="audio files: the quantity at digital full scale, e.g. "
+        "'10 V'"),
     samples_per_rev: int | None = typer.Option(None, "--samples-per-rev"),
     out: Path = typer.Option(Path("report"), "--out", "-o", help="output directory"),
 ) -> None:
@@ -112,6 +119,8 @@ def analyze(
     kin = analyze_kinematics(cfg)
     speeds = parse_assignments(speed, "--speed")
     result = _open_result(signal)
+    if result is None and getattr(cfg, "measurement", None) is not None and ias_ppr is None:
+        result = _mapped_record(signal, cfg, speeds, tacho)
     sim_channel = None
     if result is not None:
         sim_channel, ref_angle = _result_channel(result, channel, reference, fs, speeds, tacho,
@@ -167,7 +176,8 @@ def analyze(
             speeds = {ref: 60.0 * float(np.mean(np.gradient(ref_angle, sim_channel.time)))
                       / (2 * np.pi)}
         else:
-            rec = read_signal(signal, fs, channel)
+            rec = read_signal(signal, fs, channel, sensitivity=sensitivity,
+                              full_scale=full_scale)
             pulses = read_pulse_times(tacho) if tacho is not None else None
         if sim_channel is None and pulses is None and rec.pulse_times is not None:
             if speeds:  # --speed with a tacho stored in the file: they must agree
@@ -191,7 +201,14 @@ def analyze(
                 raise InputError(f"--ppr: pulses per revolution must be >= 1, got {pulses_per_rev}")
             rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
             if sim_channel is None:
+                from geardyn.io.speed import trim_pulses
+
                 origin = "--tacho" if tacho is not None else f"pulse_times of {signal.name}"
+                pulses = trim_pulses(pulses, 0.0, (rec.x.size - 1) / rec.fs)  # longer: trimmed
+                if pulses.size < 3:
+                    raise InputError(f"{origin}: fewer than 3 pulses fall within the signal "
+                                     f"(0–{(rec.x.size - 1) / rec.fs:.6g} s)")
+                rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
                 check_tacho_span(pulses, rec.x.size, rec.fs, origin)
                 check_speed_agrees(speeds, rpm, pulses_per_rev)
         freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
@@ -366,6 +383,22 @@ def _open_result(path: Path):  # noqa: ANN202 - xarray.Dataset | None
     return ds.load()
 
 
+def _mapped_record(path: Path, cfg, speeds: dict, tacho: Path | None):  # noqa: ANN001, ANN202
+    """A measured file through the config's [measurement] mapping (geardyn.io.read_record):
+    the result layout with the shaft angles from its tacho, encoder, profile or speed."""
+    from geardyn.io import read_record
+
+    if speeds or tacho is not None:
+        raise InputError("--speed/--tacho: the config's [measurement] section maps the record "
+                         "and gives its speed (tacho/encoder channel, profile_rpm or "
+                         "speed_rpm); drop these options or the section")
+    ds = read_record(path, cfg=cfg)
+    if "angle" not in ds:
+        raise InputError(f"{path}: the [measurement] mapping gives no speed; add a tacho or "
+                         "encoder channel, profile_rpm or speed_rpm")
+    return ds
+
+
 def _result_channel(ds, channel: str | None, reference: str | None, fs: float | None,  # noqa: ANN001
                     speeds: dict, tacho: Path | None, ias_ppr: int | None, path: Path):
     """The channel to analyse in a simulation result and the angle [rad] of its reference
@@ -377,6 +410,9 @@ def _result_channel(ds, channel: str | None, reference: str | None, fs: float | 
     if not names:
         raise InputError(f"{path}: the simulation result has no sensor channel; add "
                          "[[sensors]] to the config and simulate again")
+    if channel is None and ds.attrs.get("model") == "measured":  # a tacho is no signal
+        signals = [n for n in names if get_channel(ds, n).kind != "tacho"]
+        names = signals if len(signals) == 1 else names
     if channel is None:
         if len(names) > 1:
             raise InputError(f"--channel: {path} holds {len(names)} channels; choose one of: "

@@ -171,33 +171,19 @@ def _unmapped(raw: RawRecord, fs: float | None) -> xr.Dataset:
 
 def _scale(c: MeasuredChannel, rc: RawChannel, src: str) -> tuple[float, str]:
     """Factor from file values to the channel's units, and those units (pint)."""
-    from geardyn.config.measurement import DEFAULT_UNITS, parse_quantity
+    from geardyn.config.measurement import DEFAULT_UNITS
+    from geardyn.io.units import scale_factor
 
-    if c.full_scale is not None:
-        fsq = parse_quantity(c.full_scale, "a full-scale quantity")
-        file_q = fsq
-    else:
-        if rc.attrs.get("full_scale_fraction") and c.sensitivity is not None:
-            raise InputError(f"{src}: audio samples are fractions of digital full scale; give "
-                             "full_scale (the quantity at full scale, e.g. \"10 V\") with the "
-                             "sensitivity")
-        unit = c.file_units or rc.units or ("V" if c.sensitivity is not None else "")
-        file_q = parse_quantity(f"1 {unit}" if unit else "1", "a unit")
-    target = c.units or (DEFAULT_UNITS.get(c.kind) if c.sensitivity is not None
-                         or c.kind not in ("tacho", "encoder") else None)
-    q = file_q / parse_quantity(c.sensitivity, "a sensitivity") if c.sensitivity else file_q
-    if target is None:
-        return float(q.magnitude), f"{q.units:~}" if not q.unitless else ""
-    if q.unitless and not c.sensitivity and not c.full_scale and not c.file_units \
-            and not rc.units:
+    if rc.attrs.get("full_scale_fraction") and c.sensitivity is not None and \
+            c.full_scale is None:
+        raise InputError(f"{src}: audio samples are fractions of digital full scale; give "
+                         "full_scale (the quantity at full scale, e.g. \"10 V\") with the "
+                         "sensitivity")
+    file_units = c.file_units or rc.units or ("V" if c.sensitivity is not None else "")
+    target = c.units or (None if c.kind in ("tacho", "encoder") else DEFAULT_UNITS[c.kind])
+    if target is not None and not (file_units or c.full_scale):
         return 1.0, target  # the file states no unit: its values are in the channel's units
-    try:
-        return float(q.to(parse_quantity(f"1 {target}", "a unit").units).magnitude), target
-    except Exception:  # noqa: BLE001 - pint DimensionalityError
-        how = f"file values in {file_q.units:~}" + (f" ÷ sensitivity {c.sensitivity}"
-                                                    if c.sensitivity else "")
-        raise InputError(f"{src}: {how} do not give {target} (units of a {c.kind}); check "
-                         "units, file_units and sensitivity") from None
+    return scale_factor(file_units, c.sensitivity, c.full_scale, target, src)
 
 
 def _label(c: MeasuredChannel, cfg: Any) -> str:
@@ -255,6 +241,9 @@ def _mapped(raw: RawRecord, spec: MeasurementSpec, cfg: Any, fs: float | None) -
         rate = _rate(rc, c.sample_rate_hz or spec.sample_rate_hz or fs, src)
         _finite(rc.values, rate, rc.t0, src)
         factor, units = _scale(c, rc, src)
+        if rc.attrs.get("full_scale_fraction") and c.full_scale is None:
+            notes.append(f"{src}: audio samples are fractions of digital full scale and no "
+                         f"full_scale is given: the channel is in relative units, not {units}")
         x = np.asarray(rc.values, float) * factor
         n_clip, first = clipped(x)
         if n_clip:

@@ -55,8 +55,10 @@ def _lines(p: Path) -> list[str]:
 
 
 def _split(line: str, d: str) -> list[str]:
-    if d == " ":
-        return line.split()
+    if d == " ":  # runs of blanks (tabs too) delimit; quoted names may hold blanks
+        fields = next(csv.reader([line.replace("\t", " ").strip()], delimiter=" ",
+                                 skipinitialspace=True))
+        return [f.strip() for f in fields if f.strip()]
     return [f.strip() for f in next(csv.reader([line], delimiter=d))]
 
 
@@ -206,5 +208,12 @@ def _time_scale(unit: str, src: str, col: str) -> float:
         raise InputError(f"{src}: time column '{col}': unit {unit!r}: {exc}") from None
 
 
-def numeric_column(values: np.ndarray) -> np.ndarray:
-    return np.asarray(values, dtype=float)
+def first_column(p: Path) -> np.ndarray:
+    """The first column of a table (header detected, never mistaken for data): pulse times."""
+    import pandas as pd
+
+    lines = _lines(p)
+    d, dec, skip = detect(lines, str(p))
+    df = pd.read_csv(p, sep=r"\s+" if d == " " else d, decimal=dec, header=None,
+                     skiprows=_skip_rows(p, skip), engine="c", dtype=float, usecols=[0])
+    return df.iloc[:, 0].to_numpy(dtype=float)
