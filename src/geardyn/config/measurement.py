@@ -45,17 +45,16 @@ def parse_quantity(text: str, what: str):  # noqa: ANN201 - pint.Quantity
     sensitivity in mV/g); ValueError naming the rule."""
     import re
 
-    import pint
-
     from geardyn.config.units import registry
 
     ureg = registry()
     s = re.sub(r"(?<![A-Za-z_])g(?![A-Za-z_0-9])", "g_n", str(text))
     try:
         q = ureg.Quantity(s.strip())
-    except (pint.errors.PintError, SyntaxError, ValueError, TypeError, AttributeError,
-            KeyError) as exc:
-        raise ValueError(f"{text!r} is not {what} ({exc})") from None
+    except Exception as exc:  # noqa: BLE001 - pint raises PintError, SyntaxError, even
+        # AssertionError on a dangling operator ("100 mV/")
+        why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ValueError(f"{text!r} is not {what} (pint: {why})") from None
     if not isinstance(q, ureg.Quantity):
         q = ureg.Quantity(float(q), "")
     if not math.isfinite(float(q.magnitude)):

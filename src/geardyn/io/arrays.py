@@ -15,7 +15,7 @@ from geardyn.io.raw import FS_KEYS, RawChannel, RawRecord, is_time_name, uniform
 
 def _columns(name: str, a: np.ndarray, src: str) -> dict[str, np.ndarray]:
     if a.ndim == 1:
-        return {name: a}
+        return {name or "0": a}
     if a.ndim == 2:
         if a.shape[0] < a.shape[1]:
             raise InputError(f"{src}: array '{name}' has shape {a.shape}; expected samples × "

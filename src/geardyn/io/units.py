@@ -21,7 +21,7 @@ def scale_factor(file_units: str, sensitivity: str | None, full_scale: str | Non
     if target is None:
         if sensitivity:
             q = q.to_base_units()
-        units = "" if q.unitless else f"{q.units:~}".replace(" ", "")
+        units = "" if q.unitless else f"{q.units:~}".replace(" ", "").replace("**", "^")
         return float(q.magnitude), units
     try:
         return float(q.to(parse_quantity(f"1 {target}", "a unit").units).magnitude), target
