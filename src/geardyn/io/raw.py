@@ -69,11 +69,15 @@ class RawRecord:
             return self.channels[names[i]]
         if source in self.channels:
             return self.channels[source]
+        full = [c for c in self.channels.values() if c.attrs.get("header") == source]
+        if len(full) == 1:  # a table column by its whole header, 'acc [V]'
+            return full[0]
         # TDMS 'group/channel', HDF5 '/a/b': also accept the last part when it is unique
         tail = [n for n in names if n.rsplit("/", 1)[-1] == str(source).strip("/")]
         if len(tail) == 1:
             return self.channels[tail[0]]
-        if self.time_channel is not None and str(source) == self.time_channel:
+        if self.time_channel is not None and str(source).split("[")[0].split("(")[0] \
+                .strip() == self.time_channel:
             raise InputError(f"{self.path}: '{source}' is the time column; it is never "
                              f"analysed as a signal (channels: {', '.join(names)})")
         raise InputError(f"{self.path}: channel '{source}' does not exist; the file has "

@@ -174,7 +174,8 @@ def read_table(p: Path, delimiter: str | None = None, decimal: str | None = None
         if n == tcol:
             continue
         channels[n] = RawChannel(n, df.iloc[:, i].to_numpy(dtype=float), fs, units[i],
-                                 t0 if tcol is not None else 0.0)
+                                 t0 if tcol is not None else 0.0,
+                                 attrs={"header": head[0][i]} if head else {})
     if not channels:
         raise InputError(f"{src}: no data column besides the time column '{tcol}'")
     return RawRecord(p, channels, tcol, None, notes, "table")
