@@ -72,11 +72,13 @@ class MeasuredChannel(_M):
         None, description="file channel: column name or 0-based index, TDMS 'group/channel', "
         "MAT variable, HDF5 dataset path, UFF id1, MDF channel name (default: name)")
     kind: Literal["accelerometer", "velocity", "displacement", "microphone", "tacho",
-                  "encoder"] = "accelerometer"
+                  "encoder"] = Field("accelerometer", description="what the channel measures "
+                                     "(tacho/encoder: a speed reference, not a signal)")
     location: str | None = Field(None, description="accelerometer: 'ring' or a bearing name "
                                  "(the names [[sensors]] uses)")
     stage: str | None = Field(None, description="planetary stage of a ring sensor")
-    direction: Literal["x", "y", "z", "axial", "radial"] = "y"
+    direction: Literal["x", "y", "z", "axial", "radial"] = Field(
+        "y", description="measuring direction at a bearing (x, y as [[sensors]])")
     shaft: str | None = Field(None, description="tacho/encoder: the shaft measured; others: "
                               "the shaft orders refer to (default: the speed shaft)")
     sensor_angle_deg: float = Field(0.0, description="ring sensor position (deg)")
@@ -164,7 +166,9 @@ class MeasurementSpec(_M):
     header: bool | None = Field(None, description="text tables: first line is a header "
                                 "(default: detected)")
     min_revolutions: float = Field(2.0, gt=0, description="a record shorter than this many "
-                                   "revolutions of the speed shaft is refused")
+                                   "revolutions of the speed shaft is refused (default 2: the "
+                                   "fewest for which a synchronous average differs from the "
+                                   "signal itself)")
 
     @field_validator("profile_rpm")
     @classmethod
