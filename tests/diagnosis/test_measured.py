@@ -102,8 +102,8 @@ def short_runs(tmp_path_factory):
     d = tmp_path_factory.mktemp("measured")
     cfg_path = _config(d, "planetary_reclaimer.toml", "acc_ring", SENSORS)
     cfg = geardyn.load_config(cfg_path)
-    files = [export(run_simulation(c, seed=s, t_end_s=3.0), d / f"{n}_2026-03-0{i + 1}_12-00-00.csv",
-                    channel="acc_ring")
+    files = [export(run_simulation(c, seed=s, t_end_s=3.0),
+                    d / f"{n}_2026-03-0{i + 1}_12-00-00.csv", channel="acc_ring")
              for i, (n, c, s) in enumerate((("h0", healthy_variant(cfg), 0),
                                              ("h1", healthy_variant(cfg), 1), ("rec", cfg, 100)))]
     return cfg_path, files
