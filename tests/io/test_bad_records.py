@@ -245,3 +245,26 @@ def test_analyze_wav_sensitivity_and_headerless_tacho(tone):
     res = _analyze(d / "a.wav", "--tacho", str(d / "tacho.csv"), "--full-scale", "10 V",
                    "--sensitivity", "100 mV/g")
     assert res.exit_code == 0, res.output
+
+
+def test_analyze_through_the_measurement_mapping(tmp_path, sim_run):
+    """analyze with a [measurement] mapping: the mapped channel in m/s², the speed from the
+    analog tacho channel; --speed is refused (the mapping gives the speed)."""
+    from geardyn.cli import app
+
+    _, ds = sim_run
+    from tests.diagnosis.test_measured import MAPPING, export
+
+    path = export(ds, tmp_path / "rec.csv")
+    cfg = tmp_path / "m.toml"
+    cfg.write_text((EXAMPLES / "seed004_diagnose_sun_crack.toml").read_text()
+                   + MAPPING.format(name="ring_acc").replace("min_revolutions = 1.0",
+                                                             "min_revolutions = 0.5"))
+    res = runner.invoke(app, ["analyze", str(path), "--config", str(cfg), "--out",
+                              str(tmp_path / "out")])
+    assert res.exit_code == 0, res.output
+    assert "channel 'ring_acc' of rec.csv" in " ".join(res.output.split())
+    res = runner.invoke(app, ["analyze", str(path), "--config", str(cfg), "--speed", "sun=30",
+                              "--out", str(tmp_path / "out")])
+    assert res.exit_code == 2 and "[measurement] section maps the record" in \
+        " ".join(res.output.split())

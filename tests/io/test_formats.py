@@ -164,6 +164,7 @@ def test_hdf5_any_layout_and_netcdf(tmp_path, acc):
         d.attrs["units"] = "V"
         g.create_dataset("other", data=np.zeros(7))
     _check(tmp_path, tmp_path / "rec.h5", "daq/run1/acc", acc)
+    _check(tmp_path, tmp_path / "rec.h5", "acc", acc)  # the dataset name alone is unique
     xr.Dataset({"acc": ("time", x * SENS_V_PER_MS2, {"units": "V"})},
                coords={"time": t}).to_netcdf(tmp_path / "rec.nc")
     _check(tmp_path, tmp_path / "rec.nc", "acc", acc)

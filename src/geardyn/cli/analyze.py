@@ -434,6 +434,9 @@ def _result_channel(ds, channel: str | None, reference: str | None, fs: float | 
     t, th = shaft_angle(ds, ch.shaft)
     if np.mean(np.diff(th)) < 0:
         th = -th
+    if ch.sampling == "time" and ds.attrs.get("model") == "measured":  # the speed's span
+        inside = (ch.time >= t[0]) & (ch.time <= t[-1])
+        ch.values, ch.time = ch.values[inside], ch.time[inside]
     ref_angle = np.interp(ch.time, t, th)
     if ch.sampling == "time" and not np.all(np.diff(ref_angle) > 0):
         raise InputError(f"channel '{ch.name}': shaft '{ch.shaft}' stops or turns backwards "

@@ -77,8 +77,9 @@ def read_hdf5(p: Path, time_channel: str | None = None, sources: list[str] | Non
                                                              and is_time_name(leaf)):
                 times[parent] = (name, np.asarray(ds[()], float).ravel())
                 continue
-            if wanted is not None and name not in wanted:
-                continue
+            if wanted and not {name, leaf} & wanted and any(
+                    n in wanted or n.rsplit("/", 1)[-1] in wanted for n, _ in found):
+                continue  # only the mapped datasets (when the mapping names any)
             chain = [ds.attrs]
             g = ds.parent
             while g is not None and g.name != "/":

@@ -46,16 +46,30 @@ def pulse_times_from_signal(x: np.ndarray, fs: float, t0: float = 0.0,
     if not low < thr < high:
         raise InputError(f"{where}: threshold {thr:g} lies outside the signal's state levels "
                          f"{low:g}…{high:g}")
-    idx = np.arange(x.size)
-    up = np.maximum.accumulate(np.where(x >= thr + 0.5 * h, idx, -1))
-    down = np.maximum.accumulate(np.where(x < thr - 0.5 * h, idx, -1))
-    high_state = up > down
-    rise = np.flatnonzero(high_state[1:] & ~high_state[:-1]) + 1
-    rise = rise[down[rise] >= 0]  # a low state seen before: a whole rising edge
-    below = np.maximum.accumulate(np.where(x < thr, idx, -1))
-    i = below[rise]
+    # entries into the upper band, into the lower band, and upward crossings of the threshold
+    # (one byte per sample transient; the event lists are as long as the pulse count)
+    up = _entries(x >= thr + 0.5 * h)
+    low_band = x < thr - 0.5 * h
+    down = _entries(low_band)
+    if low_band[0]:  # a record starting low: its first rising edge is whole
+        down = np.concatenate([[0], down])
+    cross = _entries(x >= thr)
+    # a rise: an entry into the upper band after the last band entered was the lower one
+    last_down = np.searchsorted(down, up, side="right") - 1  # last down entry before each up
+    prev_up = np.concatenate([[-1], up[:-1]])
+    ok = last_down >= 0
+    ok &= np.where(ok, down[np.maximum(last_down, 0)] > prev_up, False)
+    rise = up[ok]
+    k = cross[np.searchsorted(cross, rise, side="right") - 1]  # first sample ≥ thr of the edge
+    i = k - 1
     frac = (thr - x[i]) / (x[i + 1] - x[i])
     return t0 + (i + frac) / fs
+
+
+def _entries(mask: np.ndarray) -> np.ndarray:
+    """Indices where ``mask`` becomes True (not index 0: the state before is unknown)."""
+    m = mask.view(np.int8) if mask.dtype == bool else mask.astype(np.int8)
+    return np.flatnonzero(np.diff(m) == 1) + 1
 
 
 def trim_pulses(tp: np.ndarray, t_start: float, t_end: float) -> np.ndarray:
