@@ -264,6 +264,15 @@ def test_analyze_through_the_measurement_mapping(tmp_path, sim_run):
                               str(tmp_path / "out")])
     assert res.exit_code == 0, res.output
     assert "channel 'ring_acc' of rec.csv" in " ".join(res.output.split())
+    # part 5: the spectra reach the sensor's Nyquist frequency (5 kHz / 2, its 1.2 kHz housing
+    # mode included), in the channel's units
+    import xarray as xr
+
+    spec = xr.load_dataarray(tmp_path / "out" / "order_spectrum.nc")
+    assert spec.attrs["units"] == "m/s^2"
+    f_ref = float(ds.speed_rpm.sel(shaft="sun").mean()) / 60.0
+    assert float(spec["order"].max()) >= 0.9 * 2500.0 / f_ref
+    assert (tmp_path / "out" / "order_spectrum_band.png").is_file()
     res = runner.invoke(app, ["analyze", str(path), "--config", str(cfg), "--speed", "sun=30",
                               "--out", str(tmp_path / "out")])
     assert res.exit_code == 2 and "[measurement] section maps the record" in \

@@ -38,9 +38,13 @@ from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
 
 
 def _choose_spr(max_mesh_order: float, fs: float, f_ref_max: float) -> int:
-    want = max(256.0, 2.56 * 3.3 * max_mesh_order)
-    cap = max(16.0, fs / f_ref_max)
-    return int(2 ** math.ceil(math.log2(min(want, cap))))
+    """Samples per revolution keeping the sensor's whole band: fs/f_ref at the highest speed
+    (the order spectrum then reaches the Nyquist frequency, where housing resonances and
+    bearing lines live, not only the meshes), rounded up to a power of 2, at least 16.
+    ``max_mesh_order`` is kept for the callers; the mesh range lies inside that band or is
+    warned about (beyond the valid orders)."""
+    del max_mesh_order
+    return int(2 ** math.ceil(math.log2(max(16.0, fs / f_ref_max))))
 
 
 def _reference(speeds: dict[str, float], reference: str | None, cfg) -> str:
@@ -276,31 +280,43 @@ def analyze(
             f"(≤ {max_valid:.4g}); increase --samples-per-rev (or the encoder resolution)"
         )
     out.mkdir(parents=True, exist_ok=True)
+    # the channel's units on every amplitude axis ("rad/s" for an IAS)
+    units = ("rad/s" if ias is not None else
+             (sim_channel.units if sim_channel is not None else rec.units)) or "unit not stated"
     spec = order_spectrum(x_ang, spr)
+    spec.attrs["units"] = units
     markers = spectral_markers(freqs)
     xmax = min(max_valid, spr / 2, 3.3 * max_mesh)
     figs = {
         "order_spectrum.png": plot_spectrum(
-            spec, markers, xmax, f"Order spectrum of {label}, orders of '{ref}' at {rpm:.6g} rpm"
-        )
+            spec, markers, xmax, f"Order spectrum of {label} around the meshes, orders of "
+            f"'{ref}' at {rpm:.6g} rpm", units=units)
     }
-    ymax = min(3.3 * max_mesh, spr / 2) if "order" in spectrogram.dims else None
-    if ymax is None:
-        ymax = min(rec.fs / 2, 3.3 * max_mesh * f_ref_max)
-    figs["spectrogram.png"] = plot_map(spectrogram, ymax=ymax, title="Spectrogram")
+    if ias is None:  # the whole band the sensor records, up to its Nyquist frequency
+        from geardyn.diagnosis.report import sensor_band, sensor_band_figure
+
+        band = sensor_band(min(max_valid, float(spec["order"].values[-1])), rpm / 60.0,
+                           rec.fs)
+        figs["order_spectrum_band.png"] = sensor_band_figure(spec, None, band, markers, ref)
+    # spectrograms over the whole recorded band (Nyquist), not an order range below it
+    spectrogram.attrs["units"] = units
+    figs["spectrogram.png"] = plot_map(spectrogram, title="Spectrogram", units=units)
     if order_map is not None:
-        omax = min(xmax, float(order_map["order"].values[-1]))
-        figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map")
+        order_map.attrs["units"] = units
+        omax = min(max_valid, float(order_map["order"].values[-1]))
+        figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map",
+                                               units=units)
         figs["waterfall.png"] = plot_waterfall(order_map, ymax=omax, title="Waterfall")
     raw_indicators = (chunked_indicators(raw) if raw.shape[0] > LONG_SAMPLES
                       else signal_indicators(raw))
     rows = [{"signal": "raw", "component": "", "kind": "", **raw_indicators}]
     if x_ang.size - start >= spr:
         avg = tsa(x_ang[start:], spr)
-        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)")
+        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)",
+                                   units=units)
         rows.append({"signal": f"TSA {ref} (reference grid)", "component": "", "kind": "",
                      **signal_indicators(avg)})
-    rows += _component_rows(cfg, ref, samples, label, figs)
+    rows += _component_rows(cfg, ref, samples, label, figs, units)
     cep = power_cepstrum(x_ang - x_ang.mean(), spr)
     figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, revolutions / 2),
                                          title="Power cepstrum (quefrency in revolutions)")
@@ -445,7 +461,8 @@ def _result_channel(ds, channel: str | None, reference: str | None, fs: float | 
     return ch, ref_angle
 
 
-def _component_rows(cfg, ref: str, samples, label: str, figs: dict) -> list[dict]:  # noqa: ANN001
+def _component_rows(cfg, ref: str, samples, label: str, figs: dict,  # noqa: ANN001
+                    units: str = "") -> list[dict]:
     """Indicators of every shaft, wheel, planetary member and bearing from the kinematics
     (:func:`geardyn.diagnosis.features.extract_features`: TSA on each shaft's own angle, sign
     handled, difference signals without every mesh of the shaft); one TSA figure per shaft."""
@@ -468,7 +485,7 @@ def _component_rows(cfg, ref: str, samples, label: str, figs: dict) -> list[dict
         if kind == "shaft":
             safe = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)
             figs[f"tsa_{safe}.png"] = plot_tsa(np.asarray(da.values), f"TSA of shaft '{name}' "
-                                               "(own angle)")
+                                               "(own angle)", units=units or None)
     wide = feats.table.pivot_table(index=["component", "kind"], columns="indicator",
                                    values="value", aggfunc="median").reset_index()
     return [{"signal": f"TSA {r['component']}", **r} for r in wide.to_dict("records")]
