@@ -33,6 +33,7 @@ from geardyn.io.raw import RawChannel, RawRecord, read_raw
 from geardyn.io.speed import (
     angle_from_profile,
     pulse_times_from_signal,
+    repair_missing_pulses,
     trim_pulses,
 )
 from geardyn.results import LAYOUT, PREFIX, RAD_S_TO_RPM, is_result
@@ -233,7 +234,7 @@ def _mapped(raw: RawRecord, spec: MeasurementSpec, cfg: Any, fs: float | None) -
         rc = raw.get(c.file_channel)
         src = f"{raw.path}: channel '{c.name}' (file channel '{rc.name}')"
         if c.kind in ("tacho", "encoder"):
-            pulses[c.name] = (_pulses(c, rc, spec, fs, src), c, src)
+            pulses[c.name] = (_pulses(c, rc, spec, fs, src, notes), c, src)
             continue
         if rc.attrs.get("events"):
             raise InputError(f"{src}: holds pulse times, not a {c.kind} signal; map it as kind "
@@ -295,7 +296,7 @@ def _mapped(raw: RawRecord, spec: MeasurementSpec, cfg: Any, fs: float | None) -
 
 
 def _pulses(c: MeasuredChannel, rc: RawChannel, spec: MeasurementSpec, fs: float | None,
-            src: str) -> np.ndarray:
+            src: str, notes: list[str]) -> np.ndarray:
     if c.signal == "pulse_times" or rc.attrs.get("events"):
         tp = np.asarray(rc.values, float)
         if not np.all(np.isfinite(tp)):
@@ -309,6 +310,11 @@ def _pulses(c: MeasuredChannel, rc: RawChannel, spec: MeasurementSpec, fs: float
                          "threshold/hysteresis, or that this is the tacho channel)")
     if np.any(np.diff(tp) <= 0):
         raise InputError(f"{src}: pulse times must increase strictly")
+    tp, fixed = repair_missing_pulses(tp)
+    if fixed:
+        notes.append(f"{src}: {len(fixed)} interval(s) of about twice the local pulse "
+                     f"interval (missed pulses), the first after t = {fixed[0]:.6g} s: "
+                     "pulses inserted")
     return tp
 
 
