@@ -209,3 +209,25 @@ def diagnose_record(
                       blocks=(blocks, rec_blocks))
     _say(progress, "done", 1.0)
     return verdict
+
+
+def simulated_reference(cfg: GeardynConfig, opts: Any, channel: str,
+                        progress: Progress | None = None) -> list[Any]:
+    """Features of ``channel`` in simulated healthy runs of ``cfg`` (the baseline ensemble of
+    :func:`geardyn.diagnosis.ensemble.simulate_baseline`, run length from ``opts``/the
+    config): the healthy reference of a trend."""
+    from geardyn.diagnosis.ensemble import simulate_baseline
+    from geardyn.diagnosis.faults import healthy_variant
+    from geardyn.diagnosis.pipeline import _check_status, _features, _run_length
+
+    names = {s.name for s in getattr(cfg, "sensors", [])}
+    if channel not in names:
+        raise InputError(f"simulated baseline: channel '{channel}' has no simulated "
+                         "counterpart; name the measured channel like the [[sensors]] entry "
+                         f"that models it (sensors: {', '.join(sorted(names)) or 'none'})")
+    feats = []
+    for member, ds in simulate_baseline(healthy_variant(cfg), opts, _run_length(cfg, opts),
+                                        progress=progress):
+        _check_status(ds, f"healthy baseline {member.label}")
+        feats.append(_features(ds, cfg, channel, opts))
+    return feats
