@@ -245,6 +245,9 @@ def test_analyze_wav_sensitivity_and_headerless_tacho(tone):
     res = _analyze(d / "a.wav", "--tacho", str(d / "tacho.csv"), "--full-scale", "10 V",
                    "--sensitivity", "100 mV/g")
     assert res.exit_code == 0, res.output
+    text = " ".join(res.output.split())
+    # the tacho spans −0.5–4.9 s, the signal 0–4 s: trimmed, with the wrong-rate hint
+    assert "pulses span -0.5–4.9 s, the signal 0–3.9998 s" in text and "check --fs" in text
 
 
 def test_analyze_through_the_measurement_mapping(tmp_path, sim_run):

@@ -208,7 +208,17 @@ def analyze(
                 from geardyn.io.speed import trim_pulses
 
                 origin = "--tacho" if tacho is not None else f"pulse_times of {signal.name}"
-                pulses = trim_pulses(pulses, 0.0, (rec.x.size - 1) / rec.fs)  # longer: trimmed
+                duration = (rec.x.size - 1) / rec.fs
+                kept = trim_pulses(pulses, 0.0, duration)  # a longer tacho: trimmed
+                tol = max(2.0 * float(np.max(np.diff(pulses))), 0.02 * duration)
+                if pulses[0] < -tol or pulses[-1] > duration + tol:
+                    console.print(
+                        f"[yellow]warning:[/] {origin}: the pulses span {pulses[0]:.6g}–"
+                        f"{pulses[-1]:.6g} s, the signal 0–{duration:.6g} s ({rec.x.size} "
+                        f"samples at {rec.fs:g} Hz): {kept.size} of {pulses.size} pulses "
+                        "kept; if the tacho and the signal were recorded together, check "
+                        "--fs")
+                pulses = kept
                 if pulses.size < 3:
                     raise InputError(f"{origin}: fewer than 3 pulses fall within the signal "
                                      f"(0–{(rec.x.size - 1) / rec.fs:.6g} s)")

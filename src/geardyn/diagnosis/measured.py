@@ -41,6 +41,13 @@ def load_record(path: str | Path, cfg: GeardynConfig, what: str) -> xr.Dataset:
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{what}: file '{p}' does not exist")
+    if p.suffix.lower() in (".nc", ".netcdf"):  # a result or a NetCDF record: readable?
+        import xarray as xr
+
+        try:
+            xr.open_dataset(p).close()
+        except Exception as exc:  # noqa: BLE001 - corrupt or not NetCDF at all
+            raise InputError(f"{what}: cannot read '{p}' as NetCDF: {exc}") from None
     ds = _geardyn_result(p)
     if ds is not None:
         return ds
@@ -139,14 +146,17 @@ def diagnose_record(
                    blocks=n_blocks, skip_s=skip_s, reference_residuals=reference_residuals,
                    baseline_seeds=baseline_seeds, t_end_s=t_end_s, revolutions=revolutions)
     out = check_output_dir(out_dir)
+    for path in baseline_paths:  # every file named exists, before any reading
+        if not Path(path).is_file():
+            raise InputError(f"baseline: file '{path}' does not exist")
     what = f"record '{record_path}'"
     _say(progress, f"reading {what}", 0.0)
+    baseline_ds = [(path, load_record(path, cfg, "baseline")) for path in baseline_paths]
     rec_ds = load_record(record_path, cfg, "record")
     ch = record_channel(rec_ds, opts.channel, what)
     _check_speed(rec_ds, what)
     measured_files = []
-    for path in baseline_paths:
-        ds = load_record(path, cfg, "baseline")
+    for path, ds in baseline_ds:
         record_channel(ds, ch, f"baseline file '{path}'")
         _check_speed(ds, f"baseline file '{path}'")
         measured_files.append((path, ds))
