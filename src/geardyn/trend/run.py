@@ -79,6 +79,10 @@ def _task(args: tuple[str, str, Any, Any]) -> tuple[str, str, Any, Any]:
         return key, path, None, str(exc)
 
 
+def _remote(path: str, key: str, cfg: Any, opts: Any) -> tuple[str, str, Any, Any]:
+    return _task((path, key, cfg, opts))
+
+
 def update_store(store: TrendStore, paths: Sequence[Path], cfg: Any, opts: Any, *,
                  workers: int | None = None, scheduler: str | None = None,
                  progress: Callable[[str, float], None] | None = None
@@ -114,7 +118,10 @@ def update_store(store: TrendStore, paths: Sequence[Path], cfg: Any, opts: Any, 
     from geardyn.sweep.runner import _client
 
     with _client(scheduler, workers) as client:
-        futures = client.map(_task, tasks, pure=False)
+        # the config and options go to every worker once, not with every task
+        cfg_f, opts_f = client.scatter([cfg, opts], broadcast=True)
+        futures = client.map(_remote, [t[0] for t in tasks], [t[1] for t in tasks],
+                             cfg=cfg_f, opts=opts_f, pure=False)
         for fut in as_completed(futures):
             keep(fut.result())
     return done
