@@ -194,3 +194,24 @@ def test_docs_mapping_example_is_a_valid_config():
     data = tomllib.loads((EXAMPLES / "seed004_diagnose_sun_crack.toml").read_text() + block)
     cfg = parse_config(data)
     assert [c.name for c in cfg.measurement.channels] == ["ring_acc", "sun_tacho"]
+
+
+def test_trend_levels_from_simulated_runs(short_runs):
+    """The trend's --simulate-baseline reference: features of the measured channel's
+    [[sensors]] counterpart in simulated healthy runs (1 run × 2 measurements of the
+    ensemble), turned into levels; a channel without counterpart is refused."""
+    from geardyn.diagnosis.measured import simulated_reference
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.errors import InputError
+    from geardyn.trend.levels import trend_levels
+
+    cfg = geardyn.load_config(short_runs[0])
+    opts = options(cfg, t_end_s=3.0, baseline_seeds=[0], skip_s=0.5, blocks=2)
+    feats = simulated_reference(cfg, opts, "acc_ring")
+    assert len(feats) == 2
+    tables = [f.table.groupby(["component", "kind", "indicator", "channel"])["value"].median()
+              .reset_index().assign(block=0) for f in feats]
+    lv = trend_levels(tables, source="simulated")
+    assert len(lv.table) and (lv.table["alarm"] > lv.table["warning"]).all()
+    with pytest.raises(InputError, match="'ghost' has no simulated counterpart"):
+        simulated_reference(cfg, opts, "ghost")
