@@ -1,13 +1,11 @@
-"""Reading measured or simulated signals with their sample rate (or pulse times).
+"""Reading one signal channel with its sample rate (or pulse times) for ``geardyn analyze``.
 
-Formats (by extension): ``.wav`` (rate from the file; integer PCM scaled to ±1), ``.csv``
-(columns; a ``time`` column [s] gives the rate, else pass ``fs``), ``.npy`` (array; pass
-``fs``), ``.npz`` (keys ``x`` or ``signal``, ``fs``, optional ``pulse_times``), ``.nc``
-(NetCDF3 via scipy, NetCDF4 via h5netcdf + h5py: a data variable along a ``time``
-coordinate [s] or with an ``fs`` / ``sample_rate`` attribute). Pulse times (tacho or encoder
-edges, [s]) are read by
-:func:`read_pulse_times` from ``.csv``/``.txt``/``.npy`` (one column) or the ``pulse_times``
-entry of ``.npz``/``.nc``. Every failure is an :class:`~geardyn.errors.InputError` naming the
+Every format of :func:`geardyn.io.read_raw` (docs/measured.md): CSV/TSV (delimiter, decimal
+comma and header detected; a time column gives the rate and is never the signal), WAV/FLAC
+(integer PCM as a fraction of full scale; ``full_scale`` and ``sensitivity`` give a physical
+quantity), ``.npy`` (pass ``fs``), ``.npz`` (arrays, ``fs``, optional ``pulse_times``), MAT,
+TDMS, UFF 58, MDF4, HDF5 and NetCDF. Pulse times (tacho or encoder edges, [s]) are read by
+:func:`read_pulse_times`. Every failure is an :class:`~geardyn.errors.InputError` naming the
 file and the rule.
 """
 
@@ -65,125 +63,64 @@ def _check_fs(fs: float | None, src: str) -> float:
     return v
 
 
-def _pick(names: list[str], channel: str | int | None, src: str) -> int:
-    if channel is None:
-        return 0
-    if isinstance(channel, int) or (isinstance(channel, str) and channel.isdigit()):
-        i = int(channel)
-        if not 0 <= i < len(names):
-            raise InputError(f"channel: index {i} out of range; {src} has channels {names}")
-        return i
-    if channel not in names:
-        raise InputError(f"channel: {channel!r} not found; {src} has channels {names}")
-    return names.index(channel)
-
-
 def read_signal(
-    path: str | Path, fs: float | None = None, channel: str | int | None = None
+    path: str | Path, fs: float | None = None, channel: str | int | None = None, *,
+    sensitivity: str | None = None, full_scale: str | None = None, units: str | None = None,
 ) -> SignalRecord:
-    """Read one channel of a signal file (see module doc for the formats)."""
+    """Read one channel of a signal file: any format of :func:`geardyn.io.read_raw` (CSV/TSV
+    with delimiter, decimal comma and header detected, WAV/FLAC, NPY/NPZ, MAT, TDMS, UFF, MDF4,
+    HDF5, NetCDF). A file with several signal channels needs ``channel`` (name or 0-based
+    index); a time column is never a signal. ``sensitivity`` (e.g. ``"100 mV/g"``) and
+    ``full_scale`` (audio: the quantity at digital full scale, e.g. ``"10 V"``) turn the file's
+    values into a physical quantity (``units``, default SI base units)."""
+    from geardyn.io import read_raw
+    from geardyn.io.units import scale_factor
+
     p = Path(path)
     src = str(p)
     if not p.is_file():
         raise InputError(f"signal: file {src} does not exist")
-    ext = p.suffix.lower()
-    pulses = None
-    units = ""
-    try:
-        if ext == ".wav":
-            from scipy.io import wavfile
-
-            try:  # memory-mapped: only the chosen channel is converted (float32)
-                rate, data = wavfile.read(p, mmap=True)
-            except ValueError:  # formats that cannot be mapped (e.g. 24-bit PCM)
-                rate, data = wavfile.read(p)
-            data = data.reshape(data.shape[0], -1)
-            names = [str(i) for i in range(data.shape[1])]
-            i = _pick(names, channel, src)
-            x, rate_hz = data[:, i], float(rate)
-            if np.issubdtype(x.dtype, np.integer):
-                x = x.astype(np.float32) / np.float32(np.iinfo(x.dtype).max + 1)
-            else:
-                x = np.asarray(x, dtype=float)
-            _agree_fs(fs, rate_hz, src, "WAV header")
-        elif ext in (".csv", ".txt"):
-            import pandas as pd
-
-            df = pd.read_csv(p)
-            cols = [str(c) for c in df.columns]
-            tcol = next((c for c in cols if c.strip().lower() in ("time", "t", "time_s")), None)
-            data_cols = [c for c in cols if c != tcol]
-            if not data_cols:
-                raise InputError(f"{src}: no data column besides the time column")
-            i = _pick(data_cols, channel, src)
-            x = df[data_cols[i]].to_numpy(dtype=float)
-            rate_hz = (_agree_fs(fs, _fs_from_time(df[tcol].to_numpy(), src), src,
-                                 f"from its '{tcol}' column") if tcol else _check_fs(fs, src))
-            names = data_cols
-        elif ext == ".npy":
-            # memory-mapped: a long record is not read whole; float32/float64 data is used as
-            # stored (float32 is exact enough for vibration records: 24-bit mantissa)
-            data = np.load(p, allow_pickle=False, mmap_mode="r")
-            data = data.reshape(data.shape[0], -1)
-            names = [str(i) for i in range(data.shape[1])]
-            x = data[:, _pick(names, channel, src)]
-            if x.dtype not in (np.float32, np.float64) or data.shape[1] > 1:
-                x = np.asarray(x, dtype=float)
-            rate_hz = _check_fs(fs, src)
-        elif ext == ".npz":
-            with np.load(p, allow_pickle=False) as z:
-                key = next((k for k in ("x", "signal") if k in z), None)
-                if key is None:
-                    raise InputError(f"{src}: needs an 'x' or 'signal' array; has {list(z)}")
-                x = np.asarray(z[key], dtype=float).ravel()
-                fk = next((k for k in _FS_KEYS if k in z), None)
-                rate_hz = (_agree_fs(fs, float(z[fk]), src, f"its '{fk}' entry") if fk
-                           else _check_fs(fs, src))
-                pulses = np.asarray(z["pulse_times"], float) if "pulse_times" in z else None
-                names = [key]
-        elif ext in (".nc", ".netcdf", ".h5"):
-            with _open_nc(p) as ds:
-                dv = [v for v in ds.data_vars if v != "pulse_times"]
-                if not dv:
-                    raise InputError(f"{src}: no data variable")
-                one_d = [str(v) for v in dv if ds[v].ndim == 1]
-                if channel is None and len(one_d) > 1:
-                    raise InputError(f"channel: {src} holds {len(one_d)} 1-D channels; choose "
-                                     f"one of: {', '.join(one_d)}")
-                i = _pick([str(v) for v in dv], channel, src)
-                da = ds[dv[i]]
-                if da.ndim != 1:
-                    raise InputError(
-                        f"channel: variable '{dv[i]}' of {src} has dims {tuple(da.dims)}, not one "
-                        f"channel; choose a 1-D channel: {', '.join(one_d) or '(none)'}")
-                x = np.asarray(da.values, dtype=float)
-                fk = next((k for k in _FS_KEYS if k in da.attrs or k in ds.attrs), None)
-                if fk:
-                    rate_hz = _agree_fs(fs, float(da.attrs.get(fk, ds.attrs.get(fk))), src,
-                                        f"its '{fk}' attribute")
-                elif "time" in da.coords:
-                    rate_hz = _agree_fs(fs, _fs_from_time(da["time"].values, src), src,
-                                        "from its time coordinate")
-                else:
-                    rate_hz = _check_fs(fs, src)
-                units = str(da.attrs.get("units", ""))
-                if "pulse_times" in ds:
-                    pulses = np.asarray(ds["pulse_times"].values, dtype=float)
-                names = [str(v) for v in dv]
-        else:
-            raise InputError(
-                f"signal: unsupported file type {ext!r} ({src}); use .wav, .csv, .npy, .npz, .nc"
-            )
-    except InputError:
-        raise
-    except Exception as exc:  # malformed file → one clear message
-        raise InputError(f"signal: cannot read {src}: {exc}") from None
+    raw = read_raw(p)
+    signals = [n for n, c in raw.channels.items() if not c.attrs.get("events")]
+    events = [c for c in raw.channels.values() if c.attrs.get("events")]
+    if not signals:
+        raise InputError(f"{src}: no signal channel (only pulse times)")
+    if channel is None:
+        if len(signals) > 1:
+            raise InputError(f"channel: {src} holds {len(signals)} signal channels; choose one "
+                             f"with --channel (name or 0-based index): {', '.join(signals)}"
+                             + (f" (time column '{raw.time_channel}')" if raw.time_channel
+                                else ""))
+        rc = raw.channels[signals[0]]
+    elif isinstance(channel, int) or (isinstance(channel, str) and channel.isdigit()
+                                      and channel not in raw.channels):
+        i = int(channel)
+        if not 0 <= i < len(signals):
+            raise InputError(f"channel: index {i} out of range; {src} has signal channels "
+                             f"{', '.join(signals)}")
+        rc = raw.channels[signals[i]]
+    else:
+        rc = raw.get(str(channel))
+        if rc.attrs.get("events"):
+            raise InputError(f"channel: '{rc.name}' of {src} holds pulse times, not a signal")
+    if rc.fs is not None:
+        rate_hz = _agree_fs(fs, float(rc.fs), src, "stated in the file")
+    else:
+        rate_hz = _check_fs(fs, src)
+    x = rc.values
     if x.size < 16:
         raise InputError(f"{src}: signal has {x.size} samples; at least 16 are needed")
     if not _all_finite(x):
-        raise InputError(f"{src}: signal contains NaN or infinite values")
-    return SignalRecord(x, float(rate_hz), names[_pick(names, channel, src)] if names else "x",
-                        units, pulses, names)
+        raise InputError(f"{src}: channel '{rc.name}' contains NaN or infinite values")
+    unit = rc.units
+    if sensitivity or full_scale or units:
+        factor, unit = scale_factor(rc.units or ("V" if sensitivity else ""), sensitivity,
+                                    full_scale, units, f"{src}: channel '{rc.name}'")
+        x = np.asarray(x, dtype=float) * factor
+    elif rc.attrs.get("full_scale_fraction"):
+        unit = "FS"
+    pulses = np.asarray(events[0].values, float) if events else None
+    return SignalRecord(x, float(rate_hz), rc.name, unit, pulses, signals)
 
 
 def _all_finite(x: np.ndarray, chunk: int = 1 << 22) -> bool:
@@ -192,18 +129,19 @@ def _all_finite(x: np.ndarray, chunk: int = 1 << 22) -> bool:
 
 
 def read_pulse_times(path: str | Path) -> np.ndarray:
-    """Pulse times [s] (tacho/encoder edges), strictly increasing."""
+    """Pulse times [s] (tacho/encoder edges), strictly increasing: the first column of a
+    ``.csv``/``.txt`` table (header detected: a header-less file keeps its first pulse), a
+    ``.npy`` vector, or the ``pulse_times`` entry of ``.npz``/``.nc``."""
     p = Path(path)
     src = str(p)
     if not p.is_file():
         raise InputError(f"pulse_times: file {src} does not exist")
     ext = p.suffix.lower()
     try:
-        if ext in (".csv", ".txt"):
-            import pandas as pd
+        if ext in (".csv", ".txt", ".tsv"):
+            from geardyn.io.table import first_column
 
-            df = pd.read_csv(p)
-            tp = df.iloc[:, 0].to_numpy(dtype=float)
+            tp = first_column(p)
         elif ext == ".npy":
             tp = np.load(p, allow_pickle=False).astype(float).ravel()
         elif ext == ".npz":

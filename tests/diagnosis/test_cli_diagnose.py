@@ -27,7 +27,7 @@ def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--baseline", "healthy.nc"], "--baseline and --record go together"),
+        (["--baseline", "healthy.nc"], "--baseline needs --record"),
         (["--seeds", "0,one"], "--seeds: expected comma-separated integers"),
         # issue 20: the option typed is named (then the [diagnosis] field it overrides)
         (["--k", "0"], "'--k': must be > 0"),

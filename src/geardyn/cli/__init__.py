@@ -38,6 +38,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "demo": ("geardyn.cli.demo", "Run the examples of the sources and print their results."),
     "init": ("geardyn.cli.init", "Write a commented starter config from a template."),
     "schema": ("geardyn.cli.schema", "JSON Schema of the config file (editor completion)."),
+    "trend": ("geardyn.cli.trend", "Trend of measured records: indicators in one store, "
+              "warning/alarm levels, first crossings."),
     "sweep": ("geardyn.cli.sweep", "Parameter sweep on dask.distributed into a Zarr data set."),
 }
 

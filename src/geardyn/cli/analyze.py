@@ -38,9 +38,13 @@ from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
 
 
 def _choose_spr(max_mesh_order: float, fs: float, f_ref_max: float) -> int:
-    want = max(256.0, 2.56 * 3.3 * max_mesh_order)
-    cap = max(16.0, fs / f_ref_max)
-    return int(2 ** math.ceil(math.log2(min(want, cap))))
+    """Samples per revolution keeping the sensor's whole band: fs/f_ref at the highest speed
+    (the order spectrum then reaches the Nyquist frequency, where housing resonances and
+    bearing lines live, not only the meshes), rounded up to a power of 2, at least 16.
+    ``max_mesh_order`` is kept for the callers; the mesh range lies inside that band or is
+    warned about (beyond the valid orders)."""
+    del max_mesh_order
+    return int(2 ** math.ceil(math.log2(max(16.0, fs / f_ref_max))))
 
 
 def _reference(speeds: dict[str, float], reference: str | None, cfg) -> str:
@@ -55,7 +59,8 @@ def _reference(speeds: dict[str, float], reference: str | None, cfg) -> str:
 @app.command("analyze")
 @friendly_errors
 def analyze(
-    signal: Path = typer.Argument(..., help="signal file: .wav, .csv, .npy, .npz or .nc"),
+    signal: Path = typer.Argument(..., help="signal file: .csv/.tsv, .wav, .npy/.npz, .mat, "
+                                  ".tdms, .uff, .mf4, .h5, .nc (docs/measured.md)"),
     config: Path = typer.Option(..., "--config", "-c", help="mechanism TOML (kinematics)"),
     speed: list[str] = typer.Option(
         None, "--speed", "-s", help="constant speed LINK=RPM of the reference shaft"
@@ -77,6 +82,12 @@ def analyze(
     ),
     fs: float | None = typer.Option(None, "--fs", help="sample rate [Hz] if not in the file"),
     channel: str | None = typer.Option(None, "--channel", help="channel name or index"),
+    sensitivity: str | None = typer.Option(
+        None, "--sensitivity", help="transducer sensitivity, e.g. '100 mV/g' (file values in V "
+        "unless the file states its units)"),
+    full_scale: str | None = typer.Option(
+        None, "--full-scale", help="audio files: the quantity at digital full scale, e.g. "
+        "'10 V'"),
     samples_per_rev: int | None = typer.Option(None, "--samples-per-rev"),
     out: Path = typer.Option(Path("report"), "--out", "-o", help="output directory"),
 ) -> None:
@@ -112,6 +123,8 @@ def analyze(
     kin = analyze_kinematics(cfg)
     speeds = parse_assignments(speed, "--speed")
     result = _open_result(signal)
+    if result is None and getattr(cfg, "measurement", None) is not None and ias_ppr is None:
+        result = _mapped_record(signal, cfg, speeds, tacho)
     sim_channel = None
     if result is not None:
         sim_channel, ref_angle = _result_channel(result, channel, reference, fs, speeds, tacho,
@@ -167,7 +180,8 @@ def analyze(
             speeds = {ref: 60.0 * float(np.mean(np.gradient(ref_angle, sim_channel.time)))
                       / (2 * np.pi)}
         else:
-            rec = read_signal(signal, fs, channel)
+            rec = read_signal(signal, fs, channel, sensitivity=sensitivity,
+                              full_scale=full_scale)
             pulses = read_pulse_times(tacho) if tacho is not None else None
         if sim_channel is None and pulses is None and rec.pulse_times is not None:
             if speeds:  # --speed with a tacho stored in the file: they must agree
@@ -191,7 +205,24 @@ def analyze(
                 raise InputError(f"--ppr: pulses per revolution must be >= 1, got {pulses_per_rev}")
             rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
             if sim_channel is None:
+                from geardyn.io.speed import trim_pulses
+
                 origin = "--tacho" if tacho is not None else f"pulse_times of {signal.name}"
+                duration = (rec.x.size - 1) / rec.fs
+                kept = trim_pulses(pulses, 0.0, duration)  # a longer tacho: trimmed
+                tol = max(2.0 * float(np.max(np.diff(pulses))), 0.02 * duration)
+                if pulses[0] < -tol or pulses[-1] > duration + tol:
+                    console.print(
+                        f"[yellow]warning:[/] {origin}: the pulses span {pulses[0]:.6g}–"
+                        f"{pulses[-1]:.6g} s, the signal 0–{duration:.6g} s ({rec.x.size} "
+                        f"samples at {rec.fs:g} Hz): {kept.size} of {pulses.size} pulses "
+                        "kept; if the tacho and the signal were recorded together, check "
+                        "--fs")
+                pulses = kept
+                if pulses.size < 3:
+                    raise InputError(f"{origin}: fewer than 3 pulses fall within the signal "
+                                     f"(0–{(rec.x.size - 1) / rec.fs:.6g} s)")
+                rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
                 check_tacho_span(pulses, rec.x.size, rec.fs, origin)
                 check_speed_agrees(speeds, rpm, pulses_per_rev)
         freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
@@ -259,31 +290,43 @@ def analyze(
             f"(≤ {max_valid:.4g}); increase --samples-per-rev (or the encoder resolution)"
         )
     out.mkdir(parents=True, exist_ok=True)
+    # the channel's units on every amplitude axis ("rad/s" for an IAS)
+    units = ("rad/s" if ias is not None else
+             (sim_channel.units if sim_channel is not None else rec.units)) or "unit not stated"
     spec = order_spectrum(x_ang, spr)
+    spec.attrs["units"] = units
     markers = spectral_markers(freqs)
     xmax = min(max_valid, spr / 2, 3.3 * max_mesh)
     figs = {
         "order_spectrum.png": plot_spectrum(
-            spec, markers, xmax, f"Order spectrum of {label}, orders of '{ref}' at {rpm:.6g} rpm"
-        )
+            spec, markers, xmax, f"Order spectrum of {label} around the meshes, orders of "
+            f"'{ref}' at {rpm:.6g} rpm", units=units)
     }
-    ymax = min(3.3 * max_mesh, spr / 2) if "order" in spectrogram.dims else None
-    if ymax is None:
-        ymax = min(rec.fs / 2, 3.3 * max_mesh * f_ref_max)
-    figs["spectrogram.png"] = plot_map(spectrogram, ymax=ymax, title="Spectrogram")
+    if ias is None:  # the whole band the sensor records, up to its Nyquist frequency
+        from geardyn.diagnosis.report import sensor_band, sensor_band_figure
+
+        band = sensor_band(min(max_valid, float(spec["order"].values[-1])), rpm / 60.0,
+                           rec.fs)
+        figs["order_spectrum_band.png"] = sensor_band_figure(spec, None, band, markers, ref)
+    # spectrograms over the whole recorded band (Nyquist), not an order range below it
+    spectrogram.attrs["units"] = units
+    figs["spectrogram.png"] = plot_map(spectrogram, title="Spectrogram", units=units)
     if order_map is not None:
-        omax = min(xmax, float(order_map["order"].values[-1]))
-        figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map")
+        order_map.attrs["units"] = units
+        omax = min(max_valid, float(order_map["order"].values[-1]))
+        figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map",
+                                               units=units)
         figs["waterfall.png"] = plot_waterfall(order_map, ymax=omax, title="Waterfall")
     raw_indicators = (chunked_indicators(raw) if raw.shape[0] > LONG_SAMPLES
                       else signal_indicators(raw))
     rows = [{"signal": "raw", "component": "", "kind": "", **raw_indicators}]
     if x_ang.size - start >= spr:
         avg = tsa(x_ang[start:], spr)
-        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)")
+        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)",
+                                   units=units)
         rows.append({"signal": f"TSA {ref} (reference grid)", "component": "", "kind": "",
                      **signal_indicators(avg)})
-    rows += _component_rows(cfg, ref, samples, label, figs)
+    rows += _component_rows(cfg, ref, samples, label, figs, units)
     cep = power_cepstrum(x_ang - x_ang.mean(), spr)
     figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, revolutions / 2),
                                          title="Power cepstrum (quefrency in revolutions)")
@@ -366,6 +409,22 @@ def _open_result(path: Path):  # noqa: ANN202 - xarray.Dataset | None
     return ds.load()
 
 
+def _mapped_record(path: Path, cfg, speeds: dict, tacho: Path | None):  # noqa: ANN001, ANN202
+    """A measured file through the config's [measurement] mapping (geardyn.io.read_record):
+    the result layout with the shaft angles from its tacho, encoder, profile or speed."""
+    from geardyn.io import read_record
+
+    if speeds or tacho is not None:
+        raise InputError("--speed/--tacho: the config's [measurement] section maps the record "
+                         "and gives its speed (tacho/encoder channel, profile_rpm or "
+                         "speed_rpm); drop these options or the section")
+    ds = read_record(path, cfg=cfg)
+    if "angle" not in ds:
+        raise InputError(f"{path}: the [measurement] mapping gives no speed; add a tacho or "
+                         "encoder channel, profile_rpm or speed_rpm")
+    return ds
+
+
 def _result_channel(ds, channel: str | None, reference: str | None, fs: float | None,  # noqa: ANN001
                     speeds: dict, tacho: Path | None, ias_ppr: int | None, path: Path):
     """The channel to analyse in a simulation result and the angle [rad] of its reference
@@ -377,6 +436,9 @@ def _result_channel(ds, channel: str | None, reference: str | None, fs: float | 
     if not names:
         raise InputError(f"{path}: the simulation result has no sensor channel; add "
                          "[[sensors]] to the config and simulate again")
+    if channel is None and ds.attrs.get("model") == "measured":  # a tacho is no signal
+        signals = [n for n in names if get_channel(ds, n).kind != "tacho"]
+        names = signals if len(signals) == 1 else names
     if channel is None:
         if len(names) > 1:
             raise InputError(f"--channel: {path} holds {len(names)} channels; choose one of: "
@@ -398,6 +460,9 @@ def _result_channel(ds, channel: str | None, reference: str | None, fs: float | 
     t, th = shaft_angle(ds, ch.shaft)
     if np.mean(np.diff(th)) < 0:
         th = -th
+    if ch.sampling == "time" and ds.attrs.get("model") == "measured":  # the speed's span
+        inside = (ch.time >= t[0]) & (ch.time <= t[-1])
+        ch.values, ch.time = ch.values[inside], ch.time[inside]
     ref_angle = np.interp(ch.time, t, th)
     if ch.sampling == "time" and not np.all(np.diff(ref_angle) > 0):
         raise InputError(f"channel '{ch.name}': shaft '{ch.shaft}' stops or turns backwards "
@@ -406,7 +471,8 @@ def _result_channel(ds, channel: str | None, reference: str | None, fs: float | 
     return ch, ref_angle
 
 
-def _component_rows(cfg, ref: str, samples, label: str, figs: dict) -> list[dict]:  # noqa: ANN001
+def _component_rows(cfg, ref: str, samples, label: str, figs: dict,  # noqa: ANN001
+                    units: str = "") -> list[dict]:
     """Indicators of every shaft, wheel, planetary member and bearing from the kinematics
     (:func:`geardyn.diagnosis.features.extract_features`: TSA on each shaft's own angle, sign
     handled, difference signals without every mesh of the shaft); one TSA figure per shaft."""
@@ -429,7 +495,7 @@ def _component_rows(cfg, ref: str, samples, label: str, figs: dict) -> list[dict
         if kind == "shaft":
             safe = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)
             figs[f"tsa_{safe}.png"] = plot_tsa(np.asarray(da.values), f"TSA of shaft '{name}' "
-                                               "(own angle)")
+                                               "(own angle)", units=units or None)
     wide = feats.table.pivot_table(index=["component", "kind"], columns="indicator",
                                    values="value", aggfunc="median").reset_index()
     return [{"signal": f"TSA {r['component']}", **r} for r in wide.to_dict("records")]

@@ -1,8 +1,11 @@
 """``geardyn diagnose CONFIG.toml --out DIR``: healthy baseline, record, thresholds and verdict.
 
 Without files, simulates the healthy variant of the config (every fault removed) for each
-baseline seed and the configured machine with the record seed; with ``--baseline healthy.nc
-... --record faulty.nc``, judges the record file against the healthy files. Writes
+baseline seed and the configured machine with the record seed. With ``--record FILE`` (a
+measured file of any format mapped by the config's ``[measurement]`` section, or a geardyn
+result), judges that record against simulated healthy runs, or against ``--baseline FILE …``
+(measured or simulated files), or both (``--baseline … --simulate-baseline``;
+:mod:`geardyn.diagnosis.measured`). Writes
 ``DIR/verdict.json`` and ``DIR/report.html`` and prints the verdict per component. Exit code 0
 whether or not an alarm is raised; 2 on error.
 """
@@ -150,9 +153,15 @@ def diagnose_cmd(
     config: Path = typer.Argument(..., help="TOML config (machine, faults, \\[\\[sensors]])"),
     out: Path = typer.Option(..., "--out", "-o", help="output directory (verdict.json, "
                              "report.html)"),
-    baseline: list[Path] = typer.Option(None, "--baseline", help="healthy result file (.nc); "
-                                        "repeat for several"),
-    record: Path | None = typer.Option(None, "--record", help="result file (.nc) to judge"),
+    baseline: list[Path] = typer.Option(None, "--baseline", help="healthy record (measured "
+                                        "file or result .nc); repeat for several"),
+    record: Path | None = typer.Option(None, "--record", help="record to judge: a measured "
+                                       "file mapped by \\[measurement] (CSV, WAV, MAT, TDMS, "
+                                       "UFF, MDF4, HDF5, NetCDF…) or a result .nc"),
+    simulate_baseline: bool | None = typer.Option(
+        None, "--simulate-baseline/--no-simulate-baseline",
+        help="with --record: also simulate the healthy machine as baseline (default: only "
+        "when no --baseline file is given)"),
     channel: str | None = typer.Option(None, "--channel", help="sensor channel (default: "
                                        "\\[diagnosis].channel or the first)"),
     reference: str | None = typer.Option(None, "--reference", help="order reference link"),
@@ -180,14 +189,18 @@ def diagnose_cmd(
 
     from geardyn.config import load_config
     from geardyn.config.sensors import sensor_name_problems
+    from geardyn.diagnosis.measured import diagnose_record
     from geardyn.diagnosis.pipeline import check_output_dir as make_output_dir
-    from geardyn.diagnosis.pipeline import diagnose, diagnose_files
+    from geardyn.diagnosis.pipeline import diagnose
 
     # --k, --skip, --seeds… are validated as the [diagnosis] fields they override (the
     # message names the field and the option) and --out by make_output_dir, before any run
-    if bool(baseline) != (record is not None):
-        raise InputError("--baseline and --record go together: give healthy result file(s) "
-                         "and the record to judge, or neither (simulate both)")
+    if baseline and record is None:
+        raise InputError("--baseline needs --record: the healthy files are compared with a "
+                         "record file (or give neither and both are simulated)")
+    if simulate_baseline is not None and record is None:
+        raise InputError("--simulate-baseline: applies with --record (without --record the "
+                         "baseline is always simulated)")
     cfg = load_config(config)
     problems = sensor_name_problems(cfg)
     if problems:
@@ -216,11 +229,15 @@ def diagnose_cmd(
                   "sigma_floor": sigma_floor, "n_blocks": blocks, "skip_s": skip,
                   "reference_residuals": residuals, "progress": progress}
         if record is not None:
-            if any(v is not None for v in (seeds, record_seed, t_end, revolutions)):
+            simulated = simulate_baseline if simulate_baseline is not None else not baseline
+            if record_seed is not None or (not simulated and any(
+                    v is not None for v in (seeds, t_end, revolutions))):
                 raise InputError("--seeds/--record-seed/--t-end/--revolutions are for "
                                  "simulated runs; they do not apply with --baseline/--record "
-                                 "files")
-            verdict = diagnose_files(baseline, record, cfg, out, **common)
+                                 "files (add --simulate-baseline to simulate the baseline too)")
+            verdict = diagnose_record(cfg, record, out, baseline_paths=baseline or (),
+                                      simulate=simulated, baseline_seeds=parse_seeds(seeds),
+                                      t_end_s=t_end, revolutions=revolutions, **common)
         else:
             verdict = diagnose(cfg, out, baseline_seeds=parse_seeds(seeds),
                                record_seed=record_seed, t_end_s=t_end,

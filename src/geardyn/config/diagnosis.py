@@ -192,6 +192,9 @@ def check_diagnosis(cfg: object) -> list[str]:
         return []
     problems: list[str] = []
     sensors = {s.name: s for s in getattr(cfg, "sensors", [])}
+    meas = getattr(cfg, "measurement", None)  # measured channels (geardyn.config.measurement)
+    if meas is not None:
+        sensors.update({c.name: c for c in meas.channels if c.name not in sensors})
     if spec.channel is not None:
         usable = [n for n, s in sensors.items() if s.kind != "tacho"]
         if spec.channel not in sensors:

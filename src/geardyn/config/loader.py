@@ -12,6 +12,7 @@ from pydantic import Field, ValidationError, model_validator
 from geardyn.config.diagnosis import DiagnosisSpec, check_diagnosis
 from geardyn.config.dynamics import Dynamics, check_dynamics
 from geardyn.config.gears import GearGeometryConfig, check_gear_geometry
+from geardyn.config.measurement import MeasurementSpec, check_measurement
 from geardyn.config.mechanism import Mechanism
 from geardyn.config.planetary import PlanetaryDynamics, check_planetary_dynamics
 from geardyn.config.sensors import SensorSpec, check_sensors
@@ -93,6 +94,17 @@ class GeardynConfig(Mechanism):
     @model_validator(mode="after")
     def _check_diagnosis(self) -> GeardynConfig:
         problems = check_diagnosis(self)
+        if problems:
+            raise ValueError("\n".join(problems))
+        return self
+
+    measurement: MeasurementSpec | None = Field(
+        None, description="channel mapping of measured records (see geardyn.config.measurement)"
+    )
+
+    @model_validator(mode="after")
+    def _check_measurement(self) -> GeardynConfig:
+        problems = check_measurement(self)
         if problems:
             raise ValueError("\n".join(problems))
         return self

@@ -1,0 +1,78 @@
+"""``geardyn trend`` over many records: one process against a 2-worker LocalCluster (issue 19
+target: 1000 records, parallel efficiency ≥ 0.8 on 2 workers).
+
+Records: the pump gearbox of the docs/measured.md walkthrough, 2 s at 10 kS/s, samples × 2
+float32 ``.npy`` (accelerometer volts, analog tacho), a fault growing over the last tenth.
+Each row adds every record to a new store (:func:`geardyn.trend.update_store`) and reports
+the wall time; efficiency = T(in-process) / (2 · T(2 workers)). The 2-worker time includes
+the cluster's start (worker processes importing geardyn). Count: ``GEARDYN_BENCH_TREND_N``
+(default 1000).
+
+Measured (2026-11-26) on the shared 2-core machine under a load average of 6–8 (other jobs):
+200 records, 30.1 s in one process, 39.8 s on 2 workers (efficiency 0.38); 60 records 0.51.
+Those numbers measure the contention, not the code: the ≥ 0.8 target is to be measured on an
+idle machine.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.bench_measured import CONFIG
+
+FS, DURATION = 10_000.0, 2.0
+
+
+def _records(folder: Path, n: int) -> list[Path]:
+    t = np.arange(int(FS * DURATION)) / FS
+    th = 2 * np.pi * 10.0 * t
+    tooth = np.exp(-0.5 * ((np.mod(th, 2 * np.pi) - np.pi) * 23 / np.pi) ** 2)
+    tach = np.where(np.mod(th, 2 * np.pi) < np.pi, 5.0, 0.0)
+    tach[0] = 0.0
+    rng = np.random.default_rng(0)
+    out = []
+    for i in range(n):
+        s = max(0.0, (i - 0.9 * n) / (0.1 * n))
+        acc = ((1 + s * tooth) * np.cos(23 * th) + 0.3 * np.cos(46 * th)
+               + 0.2 * rng.standard_normal(t.size))
+        p = folder / f"pump_{i:05d}.npy"
+        np.save(p, np.column_stack([acc * 0.1 / 9.80665, tach]).astype(np.float32))
+        out.append(p)
+    return out
+
+
+def run() -> list[dict]:
+    import geardyn
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.trend import TrendStore, update_store
+
+    n = int(float(os.environ.get("GEARDYN_BENCH_TREND_N", "1000")))
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        d = Path(d)
+        (d / "pump.toml").write_text(CONFIG.replace("50000.0", str(FS)))
+        cfg = geardyn.load_config(d / "pump.toml")
+        opts = options(cfg)
+        paths = _records(d, n)
+        times = {}
+        for how, workers in (("in this process", 1), ("LocalCluster, 2 workers", 2)):
+            t0 = time.perf_counter()
+            done = update_store(TrendStore(d / f"h{workers}.zarr"), paths, cfg, opts,
+                                workers=workers)
+            times[workers] = time.perf_counter() - t0
+            rows.append({"records": n, "how": how, "added": len(done["added"]),
+                         "failed": len(done["failed"]), "wall [s]": f"{times[workers]:.1f}",
+                         "per record [ms]": f"{1e3 * times[workers] / n:.0f}"})
+        rows.append({"records": n, "how": "parallel efficiency T1/(2·T2)",
+                     "wall [s]": f"{times[1] / (2 * times[2]):.2f}"})
+    return rows
+
+
+if __name__ == "__main__":
+    for row in run():
+        print(row)

@@ -1,0 +1,127 @@
+"""Records → indicator tables → the trend store, on the project's Dask machinery.
+
+:func:`update_store` reads each record not yet in the store (:func:`record_table`: the
+record through the ``[measurement]`` mapping, the diagnosis' features of its channel), on a
+``dask.distributed`` cluster (:func:`geardyn.sweep.runner._client`: a scheduler address, or a
+LocalCluster of single-threaded worker processes) when there are several records and more
+than one worker, else in this process. Only this process writes the store, one record at a
+time, as results arrive: Ctrl-C keeps every record already written and a re-run resumes.
+"""
+
+from __future__ import annotations
+
+import glob
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from geardyn.errors import GeardynError, InputError
+from geardyn.trend.store import TrendStore, record_key
+
+#: File extensions taken from a folder of records.
+RECORD_EXTENSIONS = (".csv", ".tsv", ".txt", ".wav", ".flac", ".npy", ".npz", ".mat", ".tdms",
+                     ".uff", ".unv", ".mf4", ".mdf", ".h5", ".hdf5", ".nc")
+
+
+def expand_records(items: Sequence[str | Path]) -> list[Path]:
+    """Files, folders (their record files, sorted) and glob patterns → record files, each
+    once, in the order given."""
+    out: list[Path] = []
+    for item in items:
+        p = Path(item)
+        if p.is_dir():
+            found = sorted(f for f in p.iterdir() if f.is_file()
+                           and f.suffix.lower() in RECORD_EXTENSIONS)
+        elif p.is_file():
+            found = [p]
+        else:
+            found = [Path(f) for f in sorted(glob.glob(str(item))) if Path(f).is_file()]
+            if not found:
+                raise InputError(f"records: '{item}' is no file, folder or matching pattern")
+        out += [f for f in found if f not in out]
+    if not out:
+        raise InputError("records: no record file found")
+    return out
+
+
+def record_table(path: str, cfg: Any, opts: Any) -> tuple[pd.DataFrame, dict[str, Any]]:
+    """The indicator table (per block) and the record's attributes (worker task)."""
+    import warnings
+
+    from geardyn.diagnosis.features import features_from_result
+    from geardyn.diagnosis.measured import _check_speed, load_record, record_channel
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = load_record(path, cfg, "record")
+    what = f"record '{path}'"
+    ch = record_channel(ds, opts.channel, what)
+    _check_speed(ds, what)
+    f = features_from_result(ds, cfg, ch, reference=opts.reference, skip_s=opts.skip_s,
+                             n_blocks=opts.blocks)
+    a = ds.attrs
+    notes = [str(w.message) for w in caught] or [str(a.get("warnings", ""))]
+    info = {"file": str(path), "timestamp": str(a.get("timestamp", "")),
+            "speed_rpm": float(a.get("speed_rpm", float("nan")) or float("nan")),
+            "load_nm": float(a.get("load_nm", float("nan"))),
+            "warnings": "\n".join(n for n in notes if n), "channel": ch}
+    return f.table, info
+
+
+def _task(args: tuple[str, str, Any, Any]) -> tuple[str, str, Any, Any]:
+    path, key, cfg, opts = args
+    try:
+        table, info = record_table(path, cfg, opts)
+        return key, path, table, info
+    except GeardynError as exc:
+        return key, path, None, str(exc)
+
+
+def _remote(path: str, key: str, cfg: Any, opts: Any) -> tuple[str, str, Any, Any]:
+    return _task((path, key, cfg, opts))
+
+
+def update_store(store: TrendStore, paths: Sequence[Path], cfg: Any, opts: Any, *,
+                 workers: int | None = None, scheduler: str | None = None,
+                 progress: Callable[[str, float], None] | None = None
+                 ) -> dict[str, list[str]]:
+    """Add the records not yet in ``store``; returns the files ``added``, ``present`` and
+    ``failed`` (with the reason) — a failed record is reported, not stored, and tried again
+    on the next run."""
+    have = store.keys()
+    todo, present = [], []
+    for p in paths:
+        key = record_key(p)
+        (present if key in have else todo).append((str(p), key))
+    have |= {k for _, k in todo}
+    done: dict[str, list[str]] = {"added": [], "present": [p for p, _ in present], "failed": []}
+    tasks = [(p, k, cfg, opts) for p, k in dict((k, (p, k)) for p, k in todo).values()]
+
+    def keep(result: tuple[str, str, Any, Any]) -> None:
+        key, path, table, info = result
+        if table is None:
+            done["failed"].append(info if str(info).startswith(path) else f"{path}: {info}")
+        elif store.add(key, table, info):
+            done["added"].append(path)
+        if progress is not None:
+            progress(f"indicators of {Path(path).name}",
+                     (len(done["added"]) + len(done["failed"])) / max(len(tasks), 1))
+
+    if scheduler is None and (len(tasks) < 2 or (workers or 1) <= 1):
+        for t in tasks:
+            keep(_task(t))
+        return done
+    from distributed import as_completed
+
+    from geardyn.sweep.runner import _client
+
+    with _client(scheduler, workers) as client:
+        # the config and options go to every worker once, not with every task
+        cfg_f, opts_f = client.scatter([cfg, opts], broadcast=True)
+        futures = client.map(_remote, [t[0] for t in tasks], [t[1] for t in tasks],
+                             cfg=cfg_f, opts=opts_f, pure=False)
+        for fut in as_completed(futures):
+            keep(fut.result())
+    return done
