@@ -37,7 +37,8 @@ def test_threshold_is_mean_plus_k_std_pooled_over_tables() -> None:
     # two seeds × 2 blocks: pooled 1, 3, 5, 7 → mean 4, sample std sqrt(20/3)
     a = table({("sun", "sun", "FM4"): [1.0, 3.0]})
     b = table({("sun", "sun", "FM4"): [5.0, 7.0]})
-    th = thresholds([a, b], ThresholdRule(k=3.0, sigma_floor=0.05, small_sample=False))
+    th = thresholds([a, b], ThresholdRule(k=3.0, sigma_floor=0.05, small_sample=False,
+                                          replicate="block", log_scale=False))
     r = row(th, "sun", "FM4")
     s = math.sqrt(20.0 / 3.0)
     assert r["n"] == 4
@@ -53,20 +54,47 @@ def test_small_sample_threshold_is_the_student_prediction_bound() -> None:
     # mean + t(3 dof, 0.95)·s·√(1 + 1/4) with t = 2.353 (t table, e.g. NIST e-Handbook
     # §1.3.6.7.2); pooled 1, 3, 5, 7: mean 4, s = sqrt(20/3)
     base = table({("sun", "sun", "FM4"): [1.0, 3.0, 5.0, 7.0]})
-    r = row(thresholds(base, ThresholdRule(k=1.6449, sigma_floor=0.0)), "sun", "FM4")
+    r = row(thresholds(base, ThresholdRule(k=1.6449, sigma_floor=0.0, log_scale=False)),
+            "sun", "FM4")
     bound = 4.0 + 2.353 * math.sqrt(20.0 / 3.0) * math.sqrt(1.25)
     assert r["upper"] == pytest.approx(bound, rel=2e-4)
     # the factor fades with n (→ 1) and a single sample keeps only the floor
     c = ThresholdRule().spread_factor(np.array([1, 3, 12, 1000]))
     assert c[0] == 1.0 and c[1] > c[2] > c[3] > 1.0 and c[3] == pytest.approx(1.0, abs=0.01)
-    one = row(thresholds(table({("sun", "sun", "FM4"): [4.0]})), "sun", "FM4")
+    one = row(thresholds(table({("sun", "sun", "FM4"): [4.0]}), ThresholdRule(log_scale=False)),
+              "sun", "FM4")
     assert one["sigma"] == pytest.approx(0.2) and one["usable"]
+
+
+def test_default_rule_one_log_sample_per_record() -> None:
+    """Default: each baseline record contributes the median of its blocks; a positive
+    higher-is-worse indicator is thresholded on the logarithm (hand computation below), the
+    floor is log(1 + f); a two-sided indicator stays linear."""
+    recs = [[1.0, 3.0], [2.0, 2.0], [4.0, 6.0], [8.0, 8.5]]  # medians 2, 2, 5, 8.25
+    base = [table({("sun", "sun", "FM4"): v, ("sun", "sun", "skewness"): [x - 3 for x in v]})
+            for v in recs]
+    rule = ThresholdRule(k=3.0, sigma_floor=0.05)
+    th = thresholds(base, rule)
+    r = row(th, "sun", "FM4")
+    logs = np.log([2.0, 2.0, 5.0, 8.25])
+    mu, s = logs.mean(), logs.std(ddof=1)
+    c = float(rule.spread_factor(np.array([4]))[0])
+    assert r["scale"] == "log" and r["n"] == 4
+    assert r["mean"] == pytest.approx(math.exp(mu)) and r["std"] == pytest.approx(s)
+    assert r["upper"] == pytest.approx(math.exp(mu + 3.0 * c * s))
+    sk = row(th, "sun", "skewness")
+    assert sk["scale"] == "linear" and sk["n"] == 4
+    assert sk["mean"] == pytest.approx(np.mean([-1.0, -1.0, 2.0, 5.25]))
+    # a deterministic baseline: the floor, 5 % in ratio
+    flat = [table({("ring", "ring", "FM4"): [3.0, 3.0 + 1e-12]}) for _ in range(3)]
+    f = row(thresholds(flat, rule), "ring", "FM4")
+    assert f["upper"] == pytest.approx(3.0 * 1.05**3.0)
 
 
 def test_sigma_floor_for_a_deterministic_baseline() -> None:
     # identical seeds: std 1e-12 → σ = 5 % of |μ| = 0.15, threshold 3 + 3·0.15 = 3.45
     base = table({("ring", "ring", "FM4"): [3.0, 3.0 + 1e-12, 3.0, 3.0 - 1e-12]})
-    th = thresholds(base, ThresholdRule(k=3.0, sigma_floor=0.05))
+    th = thresholds(base, ThresholdRule(k=3.0, sigma_floor=0.05, log_scale=False))
     r = row(th, "ring", "FM4")
     assert r["sigma"] == pytest.approx(0.15)
     assert r["upper"] == pytest.approx(3.45)

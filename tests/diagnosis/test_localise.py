@@ -258,14 +258,20 @@ def test_detected_but_unlocalised_is_uncertain_never_healthy():
 
 
 def test_a_location_needs_evidence_above_its_threshold():
-    """The largest posterior is not enough: evidence below its own threshold (a null spread
-    too wide for the stated false-alarm probability) leaves the location uncertain."""
+    """The largest posterior is not enough: evidence below its threshold at the localisation
+    level leaves the location uncertain. Null: geometric mean 1, log-spread 0.1, n = 6; with
+    G = 2 hypotheses at confidence 0.95 the level is 1 − 0.95^(1/2) = 0.0253 and the bound
+    exp(t_5(1 − 0.0253)·0.1·√(7/6)) = 1.32 (scipy's t below)."""
+    from scipy.stats import t as tdist
+
+    bound = math.exp(tdist.isf(1 - 0.95**0.5, 5) * 0.1 * math.sqrt(7 / 6))
+    assert _ev("a", "cSDR", 1.0, 0.0).bound(1 - 0.95**0.5) == pytest.approx(bound, rel=1e-12)
     v = _verdict({"a": ("wheel", 3.0), "b": ("wheel", 0.5)})
-    ev = {"a": _ev("a", "cSDR", 1.5, 6.0), "b": _ev("b", "cSDR", 1.0, 0.0)}
+    ev = {"a": _ev("a", "cSDR", 0.99 * bound, 6.0), "b": _ev("b", "cSDR", 1.0, 0.0)}
     _run(v, ev, _items({"a": (1.0, None), "b": (2.0, None)}))
     assert v.localisation["state"] == "uncertain" and v.state == "uncertain"
     v2 = _verdict({"a": ("wheel", 3.0), "b": ("wheel", 0.5)})
-    _run(v2, {"a": _ev("a", "cSDR", 2.5, 6.0), "b": _ev("b", "cSDR", 1.0, 0.0)},
+    _run(v2, {"a": _ev("a", "cSDR", 1.01 * bound, 6.0), "b": _ev("b", "cSDR", 1.0, 0.0)},
          _items({"a": (1.0, None), "b": (2.0, None)}))
     assert v2.location == ["a"]
 

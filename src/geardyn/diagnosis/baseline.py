@@ -2,12 +2,23 @@
 
 The baseline is one or more indicator tables in the long format of
 :func:`geardyn.diagnosis.features.features_from_result` (columns ``component, kind, indicator,
-value, block, channel``), e.g. one per simulation seed or measured healthy record. All their
-rows are pooled per ``(component, kind, indicator, channel)``: every block of whole revolutions
-of every baseline record is one sample.
+value, block, channel``), one per healthy record (a baseline-ensemble member, a simulation seed
+or a measured healthy record).
+
+**Samples.** A record is judged by the median of its blocks; the null sample of an indicator
+is the same statistic of every baseline record (``replicate = "record"``, the default: the
+unit of replication is the machine-and-measurement, not the block — blocks of one record share
+its machine and are not independent). Keys with fewer than 2 baseline records fall back to
+pooling every block of every record (``replicate = "block"``).
+
+**Scale.** Condition indicators of the higher-is-worse kind are positive (kurtosis, RMS and
+energy ratios) and their spread over a fleet is multiplicative and right-skewed: with
+``log_scale`` (default) a key whose samples are all > 0 is thresholded on the logarithm of
+the values (a log-normal model; Limpert, Stahel & Abbt 2001) and the threshold is brought back
+to the indicator's unit; other keys (a value ≤ 0, two-sided indicators) on the values.
 
 Rule (:class:`ThresholdRule`): with μ and s the mean and sample standard deviation (ddof = 1)
-of the n pooled values,
+of the n samples (values or logarithms),
 
 * small-sample correction: a healthy record is a new draw, not one of the n, and s is itself
   uncertain, so s is scaled by c_n = t_{n−1}(Φ(k))·√(1 + 1/n) / k — the one-sided Gaussian
@@ -16,16 +27,18 @@ of the n pooled values,
   future observation of a normal sample: Hahn & Meeker, *Statistical Intervals*, 1991, ch. 4).
   c_n = 7.4 for n = 3, 2.0 for n = 6, 1.3 for n = 12, → 1 for large n; a single sample
   (n = 1) has no spread estimate and keeps only the floor below;
-* σ = max(c_n·s, f·|μ|) — the spread is floored at a fraction ``f`` (``sigma_floor``, default
-  5 %) of the mean, so that a deterministic baseline (simulated, nearly identical seeds) does
-  not alarm on numerical noise;
-* upper threshold μ + k·σ (k = ``k``, default 3) for indicators where higher is worse;
+* σ = max(c_n·s, floor) with the floor a fraction ``f`` (``sigma_floor``, default 5 %) of the
+  mean (log scale: log(1 + f)), so that a deterministic baseline (simulated, nearly identical
+  seeds) does not alarm on numerical noise;
+* upper threshold μ + k·σ (log scale: exp(μ + k·σ)) for indicators where higher is worse;
 * for two-sided indicators (:data:`TWO_SIDED`, e.g. skewness, whose sign flips with the sense
   of an impact) also a lower threshold μ − k·σ.
 
 Every indicator is taken as higher-is-worse except those in :data:`TWO_SIDED`; indicators in
 :data:`NOT_JUDGED` (operating-point values such as speeds) are not thresholded. An indicator
 whose σ is 0 (no spread and μ = 0) or whose values are not finite has no usable threshold.
+The ``mean`` and ``std`` columns are those of the samples on their scale (``scale``: log rows
+give the geometric mean and the standard deviation of the logarithm).
 """
 
 from __future__ import annotations
@@ -57,6 +70,11 @@ class ThresholdRule:
     k: float = 3.0
     sigma_floor: float = 0.05
     small_sample: bool = True
+    replicate: str = "record"
+    """``"record"``: one sample per baseline record (median of its blocks); ``"block"``: every
+    block pooled (module docstring)."""
+    log_scale: bool = True
+    """Threshold positive higher-is-worse indicators on the logarithm of their values."""
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.k) and self.k > 0):
@@ -65,6 +83,8 @@ class ThresholdRule:
             raise InputError(
                 f"sigma_floor: fraction of |mean| must be in [0, 1), got {self.sigma_floor!r}"
             )
+        if self.replicate not in ("record", "block"):
+            raise InputError(f"replicate: 'record' or 'block', got {self.replicate!r}")
 
     def describe(self) -> str:
         """One line stating the rule (for the report and verdict.json)."""
@@ -72,10 +92,15 @@ class ThresholdRule:
         cn = (f"; c_n = t_(n−1)(Φ({self.k:g}))·√(1 + 1/n)/{self.k:g} (one-sided prediction "
               "bound for a new healthy record from n baseline samples)"
               if self.small_sample else "")
+        unit = ("one sample per baseline record (median of its blocks)"
+                if self.replicate == "record" else "the pooled baseline blocks")
+        scale = ("; positive higher-is-worse indicators on the log scale (threshold = "
+                 f"exp(mean + {self.k:g}·σ) of the log values, floor log(1 + "
+                 f"{self.sigma_floor:g}))" if self.log_scale else "")
         return (
-            f"threshold = mean + {self.k:g}·σ over the pooled baseline blocks, "
-            f"σ = max({c}, {self.sigma_floor:g}·|mean|){cn}; two-sided (mean ± {self.k:g}·σ) "
-            f"for {', '.join(sorted(TWO_SIDED))}"
+            f"threshold = mean + {self.k:g}·σ over {unit}, "
+            f"σ = max({c}, {self.sigma_floor:g}·|mean|){cn}{scale}; two-sided (mean ± "
+            f"{self.k:g}·σ) for {', '.join(sorted(TWO_SIDED))}"
         )
 
     def spread_factor(self, n: np.ndarray) -> np.ndarray:
@@ -125,15 +150,6 @@ def pool(tables: pd.DataFrame | Iterable[pd.DataFrame]) -> pd.DataFrame:
     return pd.concat(parts, ignore_index=True)
 
 
-def _stats(values: pd.Series) -> pd.Series:
-    v = values.to_numpy(dtype=float)
-    v = v[np.isfinite(v)]
-    n = v.size
-    mean = float(v.mean()) if n else math.nan
-    std = float(v.std(ddof=1)) if n > 1 else (0.0 if n else math.nan)
-    return pd.Series({"n": n, "mean": mean, "std": std})
-
-
 def thresholds(
     baseline: pd.DataFrame | Iterable[pd.DataFrame], rule: ThresholdRule | None = None
 ) -> pd.DataFrame:
@@ -150,14 +166,39 @@ def thresholds(
     rows = rows[[direction(str(i)) != "none" for i in rows["indicator"]]]
     if rows.empty:
         raise InputError("baseline: no thresholdable indicator in the baseline tables")
-    stats = rows.groupby(KEYS, sort=False)["value"].apply(_stats).unstack().reset_index()
-    stats["n"] = stats["n"].astype(int)
-    stats["direction"] = [direction(str(i)) for i in stats["indicator"]]
-    spread = rule.spread_factor(stats["n"].to_numpy()) * stats["std"]
-    stats["sigma"] = np.maximum(spread, rule.sigma_floor * stats["mean"].abs())
-    stats["upper"] = stats["mean"] + rule.k * stats["sigma"]
-    two = stats["direction"] == "two-sided"
-    stats["lower"] = np.where(two, stats["mean"] - rule.k * stats["sigma"], np.nan)
-    stats["usable"] = (stats["n"] > 0) & np.isfinite(stats["upper"]) & (stats["sigma"] > 0)
-    cols = [*KEYS, "direction", "n", "mean", "std", "sigma", "lower", "upper", "usable"]
+    rows = rows[np.isfinite(rows["value"].to_numpy(float))]
+    if rule.replicate == "record":
+        per = rows.groupby([*KEYS, "record"], sort=False)["value"].median().reset_index()
+        records = per.groupby(KEYS, sort=False)["record"].transform("size")
+        blocks = rows.merge(per.loc[records < 2, KEYS].drop_duplicates(), on=KEYS)
+        rows = pd.concat([per.loc[records >= 2], blocks], ignore_index=True)
+    out = []
+    for key, g in rows.groupby(KEYS, sort=False):
+        out.append(_row(dict(zip(KEYS, key, strict=True)), g["value"].to_numpy(float), rule))
+    if not out:
+        raise InputError("baseline: no finite indicator value in the baseline tables")
+    stats = pd.DataFrame(out)
+    cols = [*KEYS, "direction", "scale", "n", "mean", "std", "sigma", "lower", "upper",
+            "usable"]
     return stats[cols]
+
+
+def _row(key: dict[str, str], v: np.ndarray, rule: ThresholdRule) -> dict[str, object]:
+    """Threshold row of one key from its samples ``v`` (module docstring)."""
+    dirn = direction(str(key["indicator"]))
+    n = int(v.size)
+    log = rule.log_scale and dirn == "upper" and n > 0 and bool(np.all(v > 0))
+    x = np.log(v) if log else v
+    mean = float(x.mean()) if n else math.nan
+    std = float(x.std(ddof=1)) if n > 1 else (0.0 if n else math.nan)
+    spread = float(rule.spread_factor(np.array([n]))[0]) * std
+    floor = math.log1p(rule.sigma_floor) if log else rule.sigma_floor * abs(mean)
+    sigma = max(spread, floor)
+    upper = mean + rule.k * sigma
+    lower = mean - rule.k * sigma if dirn == "two-sided" else math.nan
+    if log:
+        mean, upper = math.exp(mean), math.exp(upper)
+    usable = n > 0 and math.isfinite(upper) and sigma > 0
+    return {**key, "direction": dirn, "scale": "log" if log else "linear", "n": n,
+            "mean": mean, "std": std, "sigma": sigma, "lower": lower, "upper": upper,
+            "usable": usable}

@@ -433,6 +433,21 @@ class Evidence:
         return bool(np.isfinite(self.value) and np.isfinite(self.threshold)
                     and self.value > self.threshold)
 
+    def bound(self, alpha: float) -> float:
+        """The threshold of this evidence at another per-test level ``alpha`` (the same
+        Student prediction bound as :func:`evidence_from_null`; NaN without a null)."""
+        from scipy.stats import t as student
+
+        if self.n < 2 or not np.isfinite(self.mean) or self.mean <= 0:
+            return math.nan
+        scale = max(self.std, LOG_SPREAD_FLOOR) * math.sqrt(1.0 + 1.0 / self.n)
+        return math.exp(math.log(self.mean) + float(student.isf(alpha, self.n - 1)) * scale)
+
+    def passes_at(self, alpha: float) -> bool:
+        """The record's value exceeds :meth:`bound` at ``alpha``."""
+        b = self.bound(alpha)
+        return bool(np.isfinite(self.value) and np.isfinite(b) and self.value > b)
+
     @property
     def margin(self) -> float:
         """``value / threshold`` (> 1 ⇔ the evidence passes at its false-alarm probability)."""

@@ -145,7 +145,16 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
         c = info.get(n)
         return round(c.abs_ratio, 9) if c is not None else None
 
-    passing_toothed = {c for c, ev in top_ev.items() if kind.get(c) in TOOTHED and ev.passed}
+    # localisation level: given a detection, each of the G hypotheses' evidence is tested at
+    # the Šidák level of the localisation confidence (the chance that a healthy member's
+    # evidence passes is then at most 1 − confidence over all of them)
+    n_groups = max(len(groups), 1)
+    alpha_loc = sidak_alpha(1.0 - confidence, n_groups)
+
+    def passed(ev: Evidence) -> bool:
+        return ev.passes_at(alpha_loc) if math.isfinite(ev.mean) else ev.passed
+
+    passing_toothed = {c for c, ev in top_ev.items() if kind.get(c) in TOOTHED and passed(ev)}
     for g, members in list(groups.items()):
         if all(kind.get(m) == "shaft" for m in members):
             same = sorted(t for t in passing_toothed
@@ -169,7 +178,7 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
         return toothed or members
 
     def passes(g: str) -> bool:  # a location needs evidence above its own threshold
-        return any(top_ev[m].passed or (m in planet_ev and planet_ev[m].passed)
+        return any(passed(top_ev[m]) or (m in planet_ev and passed(planet_ev[m]))
                    for m in groups[g])
 
     level = "component"
@@ -235,7 +244,8 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
         state = "uncertain"
     verdict.localisation = {"state": state, "level": level if loc else None,
                             "components": list(loc), "confidence": conf,
-                            "candidates": candidates, "score": _SCORE}
+                            "candidates": candidates, "score": _SCORE,
+                            "alpha_per_hypothesis": alpha_loc}
     verdict.notes.extend(notes)
     return notes
 
