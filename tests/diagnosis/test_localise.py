@@ -394,3 +394,21 @@ def test_ambiguous_orders_against_a_brute_force_search():
     # a member at half the rate reaches every order of the domain
     assert ambiguous_orders(1.0, [1.0, 0.5], 10, 10)[1:].all()
     assert not ambiguous_orders(1.0, [1.0], 10, 10).any()
+
+
+def test_a_shaft_yields_to_the_sun_wheel_it_carries():
+    """The input shaft of a planetary stage turns at its absolute rate, its sun wheel at the
+    rate relative to the carrier: different rates, one link. A passing sun-wheel evidence takes
+    the shaft's hypothesis over."""
+    v = _verdict({"in": ("shaft", 0.5), "st.sun": ("sun", 2.0), "x": ("wheel", 0.5)})
+    ev = {"in": _ev("in", "cSDR", 9.0, 7.0), "st.sun": _ev("st.sun", "cSDR", 3.0, 4.0),
+          "x": _ev("x", "cSDR", 1.0, 0.0)}
+    items = SimpleNamespace(items=[SimpleNamespace(name="in", abs_ratio=1.0, stage=None,
+                                                   link="sun_shaft"),
+                                   SimpleNamespace(name="st.sun", abs_ratio=0.8, stage="st",
+                                                   link="sun_shaft"),
+                                   SimpleNamespace(name="x", abs_ratio=2.0, stage=None,
+                                                   link="other")])
+    _run(v, ev, items)
+    assert v.location == ["st.sun"]
+    assert any("in: shaft evidence yields to st.sun" in n for n in v.notes)

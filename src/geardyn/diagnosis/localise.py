@@ -145,6 +145,15 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
         c = info.get(n)
         return round(c.abs_ratio, 9) if c is not None else None
 
+    def link(n: str) -> str | None:
+        return getattr(info.get(n), "link", None) or None
+
+    def carried(t: str, m: str) -> bool:
+        """Toothed member ``t`` turns with shaft ``m``: same own rate, or on the shaft's link
+        (a sun wheel on its input shaft: the wheel's angle is relative to the carrier)."""
+        return (ratio(t) is not None and ratio(t) == ratio(m)) or \
+            (link(t) is not None and link(t) == link(m))
+
     # localisation level: given a detection, each of the G hypotheses' evidence is tested at
     # the Šidák level of the localisation confidence (the chance that a healthy member's
     # evidence passes is then at most 1 − confidence over all of them)
@@ -157,14 +166,12 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
     passing_toothed = {c for c, ev in top_ev.items() if kind.get(c) in TOOTHED and passed(ev)}
     for g, members in list(groups.items()):
         if all(kind.get(m) == "shaft" for m in members):
-            same = sorted(t for t in passing_toothed
-                          if any(ratio(t) is not None and ratio(t) == ratio(m)
-                                 for m in members))
+            same = sorted(t for t in passing_toothed if any(carried(t, m) for m in members))
             if same:
                 del groups[g]
                 notes.append(f"{', '.join(members)}: shaft evidence yields to "
-                             f"{', '.join(same)}, which turns with it (the more specific "
-                             "explanation of the same synchronous change)")
+                             f"{', '.join(same)}, which it carries (the more specific "
+                             "explanation of the change)")
     scores = {g: top_ev[m[0]].z for g, m in groups.items()}
     for g, members in groups.items():  # a planet set: its planets' own frames seen apart too
         seen = [planet_ev[m].z for m in members if m in planet_ev]
