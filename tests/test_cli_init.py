@@ -24,6 +24,7 @@ runner = CliRunner()
         ("parallel", ["stiffness", "--samples", "16"]),
         ("planetary", ["modes"]),
         ("transmission", ["transmission", "--revolutions", "0.05"]),
+        ("differential", ["kinematics"]),
     ],
 )
 def test_init_templates_load_and_run(tmp_path, template, command):
@@ -35,6 +36,51 @@ def test_init_templates_load_and_run(tmp_path, template, command):
     load_config(path)
     r = runner.invoke(app, [command[0], str(path), *command[1:]])
     assert r.exit_code == 0, r.output
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("template", ["parallel", "planetary", "transmission", "differential"])
+def test_init_simulate_diagnose_reaches_a_verdict(tmp_path, monkeypatch, template):
+    """Issue 21: each template, as written, simulates and diagnoses (≈ 3 s + 10 s each on one
+    core; the simulated durations are kept short in the templates)."""
+    monkeypatch.chdir(tmp_path)
+    assert runner.invoke(app, ["init", template]).exit_code == 0
+    r = runner.invoke(app, ["simulate", f"{template}.toml", "--out", "run.nc"])
+    assert r.exit_code == 0, r.output
+    assert "sensor channel(s)" in r.output
+    r = runner.invoke(app, ["diagnose", f"{template}.toml", "--out", "diagnosis"])
+    assert r.exit_code == 0, r.output
+    verdict = json.loads((tmp_path / "diagnosis" / "verdict.json").read_text())
+    assert verdict["summary"]["verdict"] in {"alarm", "healthy", "uncertain"}
+    assert verdict["components"]  # every component judged
+    assert (tmp_path / "diagnosis" / "report.html").stat().st_size > 0
+
+
+@pytest.mark.parametrize(("cut", "message"), [
+    ("[[sensors]]", "sensors: diagnose needs at least one signal sensor"),
+    ("[dynamics]", "nothing to simulate"),
+])
+def test_diagnose_checks_model_and_sensors_before_any_run(tmp_path, monkeypatch, cut, message):
+    """A config without sensors (or without a dynamic model) is refused before anything is
+    simulated and before the output folder is created."""
+    import geardyn.run
+
+    def no_run(*a, **k):  # noqa: ANN002, ANN003, ANN202
+        raise AssertionError("simulated before checking the config")
+
+    monkeypatch.setattr(geardyn.run, "run_simulation", no_run)
+    from geardyn.templates import render
+
+    text = render("parallel", "p.toml")
+    path = tmp_path / "p.toml"
+    path.write_text(text[:text.index(cut)])
+    r = runner.invoke(app, ["diagnose", str(path), "--out", str(tmp_path / "d")])
+    assert r.exit_code == 2 and message in r.output, r.output
+    assert not (tmp_path / "d").exists()
+    path.write_text(text)
+    r = runner.invoke(app, ["diagnose", str(path), "--out", str(tmp_path / "d"),
+                            "--channel", "tacho_input"])
+    assert r.exit_code == 2 and "is not a signal sensor" in r.output, r.output
 
 
 def test_init_refuses_unknown_template_and_overwrite(tmp_path):
@@ -149,11 +195,12 @@ def test_units_in_config_strings(tmp_path):
 
     text = render("parallel", "u.toml").replace("normal_module_m = 0.003",
                                                  'normal_module_m = "3 mm"')
-    text = text.replace("input = 1500.0", 'input = "25 Hz"')
+    assert "input = 1470.0" in text
+    text = text.replace("input = 1470.0", 'input = "24.5 Hz"')
     cfg.write_text(text)
     c = load_config(cfg)
     assert c.gear_geometry[0].normal_module_m == pytest.approx(0.003)
-    assert c.input_speeds_rpm["input"] == pytest.approx(1500.0)
+    assert c.input_speeds_rpm["input"] == pytest.approx(1470.0)  # 24.5 Hz × 60 s/min
 
 
 def _numeric_fields():

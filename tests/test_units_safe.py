@@ -97,7 +97,7 @@ def _config(tmp_path, old: str, new: str):
 
 
 def test_ppm_speed_in_a_config_names_the_field(tmp_path):
-    path = _config(tmp_path, "input = 1500.0", 'input = "32.4263 ppm"')
+    path = _config(tmp_path, "input = 1470.0", 'input = "32.4263 ppm"')
     with pytest.raises(ConfigError) as exc:
         load_config(path)
     msg = str(exc.value)

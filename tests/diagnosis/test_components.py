@@ -78,11 +78,12 @@ def test_bearing_orders_from_harris_formulas():
 
 def test_two_dof_needs_input_speeds():
     """Car differential (seed 000 §3.1, 2 DOF): ratios to one wheel are not fixed, so the
-    error names the DOF and the candidate links; with both wheel speeds the ratio of the
+    error names the DOF and the candidate links (a kinematic analysis carries no operating
+    point; a config gives its input_speeds_rpm); with both wheel speeds the ratio of the
     right wheel to the left is their quotient (286.5/248.3)."""
     cfg = geardyn.load_config(EXAMPLES / "car_differential.toml")
     with pytest.raises(InputError, match="2 degrees of freedom.*input_speeds.*right_wheel"):
-        machine_components(cfg, "left_wheel")
+        machine_components(geardyn.analyze_kinematics(cfg), "left_wheel")
     speeds = {"left_wheel": 248.3, "right_wheel": 286.5}
     r = link_ratios(geardyn.analyze_kinematics(cfg), "left_wheel", speeds)
     assert r["right_wheel"] == pytest.approx(286.5 / 248.3, rel=1e-12)
@@ -100,3 +101,20 @@ def test_bad_reference_is_named():
         machine_components(42, "input")
     with pytest.raises(InputError, match="component: unknown name"):
         machine_components(cfg, "input")["nope"]
+
+
+def test_two_dof_components_take_the_configs_operating_point(examples_dir):
+    """A 2-DOF mechanism (car differential, Penaud et al. 2012 eq 8: wheels at 26 and 30 rad/s)
+    given as a config: its input_speeds_rpm set the ratios (the diagnosis of the
+    `differential` template). Reference: the cage of an open differential turns at the mean
+    of the side gears, (26 + 30) / 2 = 28 rad/s, so left/cage = 26/28, right/cage = 30/28."""
+    from geardyn.config import load_config
+    from geardyn.diagnosis.components import machine_components
+
+    cfg = load_config(examples_dir / "car_differential_dynamics.toml")
+    comps = machine_components(cfg, "cage")
+    assert comps.ratios["left_wheel"] == pytest.approx(26 / 28, rel=1e-6)
+    assert comps.ratios["right_wheel"] == pytest.approx(30 / 28, rel=1e-6)
+    # crown pair 13/65, signed as in Penaud et al. 2012 Table 1 (pinion at −2.5 × each wheel)
+    assert comps.ratios["drive_pinion"] == pytest.approx(-65 / 13, rel=1e-9)
+    assert comps.input_speeds == pytest.approx(cfg.input_speeds_rpm)

@@ -128,6 +128,9 @@ def _check_skip(cfg, skip: float | None, t_end: float | None) -> None:  # noqa: 
     skip_s = skip if skip is not None else (spec.skip_s if spec is not None else 0.0)
     pd = getattr(cfg, "planetary_dynamics", None)
     sim_end = pd.simulation.t_end_s if pd is not None and pd.simulation is not None else None
+    dy = getattr(cfg, "dynamics", None)
+    if sim_end is None and dy is not None and dy.simulation is not None:
+        sim_end = dy.simulation.t_end_s  # the mechanism model ([dynamics])
     end = t_end if t_end is not None else (
         spec.t_end_s if spec is not None and spec.t_end_s is not None else sim_end)
     if end is not None and end > 0 and skip_s is not None and math.isfinite(skip_s) \
@@ -175,8 +178,8 @@ def diagnose_cmd(
     record_seed: int | None = typer.Option(None, "--record-seed", help="seed of the record"),
     blocks: int | None = typer.Option(None, "--blocks", help="blocks of revolutions per record"),
     skip: float | None = typer.Option(None, "--skip", help="start transient discarded \\[s]"),
-    t_end: float | None = typer.Option(None, "--t-end", help="planetary model: simulated "
-                                       "duration \\[s]"),
+    t_end: float | None = typer.Option(None, "--t-end", help="planetary or \\[dynamics] "
+                                       "model: simulated duration \\[s]"),
     revolutions: float | None = typer.Option(None, "--revolutions", help="FE transmission: "
                                              "revolutions of the speed-law reference"),
     residuals: bool | None = typer.Option(
@@ -209,7 +212,10 @@ def diagnose_cmd(
                     sigma_floor=sigma_floor, baseline_seeds=parse_seeds(seeds),
                     record_seed=record_seed, blocks=blocks, skip_s=skip, t_end_s=t_end,
                     revolutions=revolutions)
-    if record is None:  # simulated runs: length and channels are known before they start
+    if record is None:  # simulated runs: model, sensors, length, channels checked first
+        from geardyn.diagnosis.pipeline import check_ready, options
+
+        check_ready(cfg, options(cfg, channel=channel))
         _check_skip(cfg, skip, t_end)
         _check_channel(cfg, channel)
         from geardyn.resources import check_run

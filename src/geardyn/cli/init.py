@@ -1,5 +1,6 @@
 """``geardyn init TEMPLATE [FILE]``: write a commented starter config (parallel, planetary,
-FE transmission) that loads and runs as it is."""
+FE transmission, differential) with a dynamic model, sensors and ``[diagnosis]``, that
+simulates and diagnoses as it is."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from geardyn.errors import InputError
 @app.command("init")
 @friendly_errors
 def init_cmd(
-    template: str = typer.Argument(..., help="parallel, planetary or transmission"),
+    template: str = typer.Argument(..., help="parallel, planetary, transmission or differential"),
     file: Path | None = typer.Argument(None, help="file to write (default: TEMPLATE.toml)"),
     force: bool = typer.Option(False, "--force", help="overwrite an existing file"),
 ) -> None:
@@ -34,5 +35,6 @@ def init_cmd(
     from geardyn.checkpoint import write_text
 
     write_text(path, render(template, str(path)))
-    console.print(f"wrote {path} ({TEMPLATES[template][0]}); edit it, then e.g. "
-                  f"geardyn kinematics {path}")
+    console.print(f"wrote {path} ({TEMPLATES[template][0]}); edit it, then e.g.\n"
+                  f"  geardyn simulate {path} --out run.nc\n"
+                  f"  geardyn diagnose {path} --out diagnosis")

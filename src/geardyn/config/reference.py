@@ -27,7 +27,7 @@ HEADER = """\
 A geardyn config is one TOML file. The mechanism (links, gear pairs, stages, bearings; seed
 000) sits at the top level; analysis sections (`[[gear_geometry]]`, `[planetary_dynamics]`,
 `[transmission]`, `[[sensors]]`, `[diagnosis]`, `[measurement]`: docs/measured.md) are
-optional. Start from a template: `geardyn init parallel|planetary|transmission`; editor
+optional. Start from a template: `geardyn init parallel|planetary|transmission|differential`; editor
 completion: `geardyn schema`.
 
 **Units.** Numbers are SI; the unit is in the field name (`_m`, `_deg`, `_rpm`, `_s`, `_hz`,

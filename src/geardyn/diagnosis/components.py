@@ -331,7 +331,8 @@ def machine_components(
     ``cfg``: a :class:`~geardyn.config.Mechanism` (or ``GeardynConfig``), a
     :class:`~geardyn.kinematics.MechanismGraph` or a :class:`~geardyn.kinematics.KinematicAnalysis`.
     ``input_speeds``: only for mechanisms with more than one DOF (link → signed speed, any one
-    unit): the ratios then hold at that operating point.
+    unit): the ratios then hold at that operating point; default the config's
+    ``input_speeds_rpm`` when ``cfg`` is a config.
 
     Shafts: every turning link except the frame and the planets, own angle its rotation, mesh
     orders the tooth counts of its fixed-axis wheels (carrier = frame). Wheels: own angle
@@ -341,6 +342,8 @@ def machine_components(
     """
     analysis = _as_analysis(cfg)
     g = analysis.graph
+    if input_speeds is None and analysis.dof > 1:  # the config's operating point, if stated
+        input_speeds = dict(getattr(cfg, "input_speeds_rpm", None) or {}) or None
     cr = complex_link_ratios(analysis, reference, input_speeds)
     ratios = {k: _real_ratio(v) for k, v in cr.items()}
     planets = _planet_links(analysis)

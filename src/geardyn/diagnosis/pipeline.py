@@ -101,9 +101,33 @@ def _channel(ds: xr.Dataset, wanted: str | None, what: str) -> str:
     return names[0]
 
 
+def check_ready(cfg: GeardynConfig, opts: DiagnosisSpec) -> None:
+    """What a simulated diagnosis needs, checked before any run (so that a missing piece costs
+    no simulation): a dynamic model to simulate (:func:`geardyn.run.simulated_model`),
+    ``[[sensors]]`` with at least one signal sensor (a tacho alone gives no vibration
+    signal), and ``diagnosis.channel`` (``--channel``) among them. Raises ConfigError naming
+    the section or field."""
+    from geardyn.run import simulated_model
+
+    simulated_model(cfg)
+    signal = [s.name for s in getattr(cfg, "sensors", None) or [] if s.kind != "tacho"]
+    if not signal:
+        raise ConfigError(
+            "sensors: diagnose needs at least one signal sensor in [[sensors]] (accelerometer, "
+            "encoder or transmission_error; a tacho gives no vibration signal), e.g. "
+            "[[sensors]] name = \"acc\", kind = \"accelerometer\", location = a bearing or "
+            "\"ring\" (docs/config.md, `sensors`; the `geardyn init` templates have one)")
+    if opts.channel is not None and opts.channel not in signal:
+        raise ConfigError(f"diagnosis.channel (--channel): '{opts.channel}' is not a signal "
+                          f"sensor of the config (signal sensors: {', '.join(signal)})")
+
+
 def _run_length(cfg: GeardynConfig, opts: DiagnosisSpec) -> dict[str, float | None]:
     """``run_simulation`` keywords of the run length, checked against the simulated model."""
-    planetary = getattr(cfg, "planetary_dynamics", None) is not None
+    # t_end_s sets the length of a lumped run: planetary model or [dynamics] mechanism model
+    planetary = getattr(cfg, "planetary_dynamics", None) is not None or (
+        getattr(cfg, "dynamics", None) is not None
+        and getattr(cfg, "transmission", None) is None)
     if opts.t_end_s is not None and not planetary:
         raise ConfigError("diagnosis.t_end_s (--t-end): applies to the planetary model; the FE "
                           "transmission's run length is set by diagnosis.revolutions "
@@ -292,6 +316,7 @@ def diagnose(
                    false_alarm_probability=false_alarm_probability,
                    skip_s=skip_s, t_end_s=t_end_s, revolutions=revolutions,
                    reference_residuals=reference_residuals)
+    check_ready(cfg, opts)
     out = check_output_dir(out_dir)
     if opts.record_seed in opts.baseline_seeds:
         raise ConfigError(f"diagnosis.record_seed: {opts.record_seed} is also a baseline seed "
