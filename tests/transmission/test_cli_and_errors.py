@@ -12,7 +12,8 @@ from geardyn.models.transmission import SimulationDivergedError, simulate
 
 def test_cli_modes_run_and_figures(examples_dir, tmp_path) -> None:
     cfg = examples_dir / "seed002_transmission.toml"
-    r = CliRunner().invoke(app, ["transmission", str(cfg), "--modes-only", "--campbell", "2000"])
+    r = CliRunner().invoke(app, ["transmission", str(cfg), "--modes-only", "--campbell",
+                                 "0:2000:5 rpm"])
     assert r.exit_code == 0, r.output
     from tests.validation.independent import printed_mode_hz, rigid_axial_mode_hz  # first
     assert printed_mode_hz(r.output, 1) == pytest.approx(  # elastic mode: the output shaft
@@ -20,7 +21,7 @@ def test_cli_modes_run_and_figures(examples_dir, tmp_path) -> None:
     assert "Campbell" in r.output
     out = tmp_path / "run.nc"
     r = CliRunner().invoke(app, ["transmission", str(cfg), "--revolutions", "2",
-                                 "--netcdf", str(out), "--plots", str(tmp_path)])
+                                 "--out", str(out), "--plots", str(tmp_path)])
     assert r.exit_code == 0, r.output
     assert out.exists() and (tmp_path / "ias_spectrum_output.png").exists()
     assert "efficiency" in r.output

@@ -20,10 +20,11 @@ import typer
 from geardyn.cli import app
 from geardyn.cli.common import (
     check_number,
-    check_output_dir,
+    check_report_dir,
     console,
     friendly_errors,
     parse_assignments,
+    report_folder,
 )
 from geardyn.cli.long_record import (
     LONG_SAMPLES,
@@ -88,8 +89,14 @@ def analyze(
     full_scale: str | None = typer.Option(
         None, "--full-scale", help="audio files: the quantity at digital full scale, e.g. "
         "'10 V'"),
-    samples_per_rev: int | None = typer.Option(None, "--samples-per-rev"),
-    out: Path = typer.Option(Path("report"), "--out", "-o", help="output directory"),
+    samples_per_rev: int | None = typer.Option(
+        None, "--samples-per-rev", help="angular samples per revolution of the reference "
+        "shaft after order tracking (orders up to half of it are valid; default: from the "
+        "sample rate and the highest mesh order)"),
+    out: Path = typer.Option(Path("report"), "--out", "-o", help="output directory (written "
+                             "whole: an existing non-empty one needs --force)"),
+    force: bool = typer.Option(False, "--force", help="replace an existing --out folder "
+                               "(its earlier files are removed, so no stale figure stays)"),
 ) -> None:
     """Order spectrum (annotated), spectrogram, TSA, cepstrum and indicators of a signal."""
     from geardyn.sensors import elapsed_time_ias
@@ -118,7 +125,7 @@ def analyze(
     check_number(pulses_per_rev, "--ppr", ge=1, le=1e6)
     check_number(ias_ppr, "--ias-ppr", ge=1, le=1e6)
     check_number(samples_per_rev, "--samples-per-rev", ge=4, le=1 << 16)
-    check_output_dir(out, "--out")
+    check_report_dir(out, "--out", force)
     cfg = load_config(config)
     kin = analyze_kinematics(cfg)
     speeds = parse_assignments(speed, "--speed")
@@ -289,7 +296,6 @@ def analyze(
             f"[yellow]warning:[/] mesh order {max_mesh:.4g} is beyond the valid order range "
             f"(≤ {max_valid:.4g}); increase --samples-per-rev (or the encoder resolution)"
         )
-    out.mkdir(parents=True, exist_ok=True)
     # the channel's units on every amplitude axis ("rad/s" for an IAS)
     units = ("rad/s" if ias is not None else
              (sim_channel.units if sim_channel is not None else rec.units)) or "unit not stated"
@@ -333,11 +339,13 @@ def analyze(
     from geardyn.checkpoint import write_atomic, write_text
     from geardyn.plotting import save_figure
 
-    for name, fig in figs.items():
-        save_figure(fig, out / name, dpi=110)
-    write_text(out / "indicators.csv", pd.DataFrame(rows).to_csv(index=False))
-    write_text(out / "markers.csv", markers.to_csv(index=False))
-    write_atomic(out / "order_spectrum.nc", lambda tmp: spec.to_netcdf(tmp, engine="scipy"))
+    with report_folder(out) as folder:  # the whole folder or nothing, no stale figures
+        for name, fig in figs.items():
+            save_figure(fig, folder / name, dpi=110)
+        write_text(folder / "indicators.csv", pd.DataFrame(rows).to_csv(index=False))
+        write_text(folder / "markers.csv", markers.to_csv(index=False))
+        write_atomic(folder / "order_spectrum.nc",
+                     lambda tmp: spec.to_netcdf(tmp, engine="scipy"))
     console.print(
         f"[bold]{label}[/]: reference '{ref}' {rpm:.6g} rpm; {revolutions:.1f} revs at {spr} "
         f"samples/rev (orders ≤ {max_valid:.4g} valid)"

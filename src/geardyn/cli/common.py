@@ -6,7 +6,8 @@ import functools
 import math
 import os
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -98,6 +99,72 @@ def check_output_file(path: Path, option: str) -> None:
         raise InputError(f"{option}: directory '{parent}' does not exist")
     if not os.access(parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
         raise InputError(f"{option}: '{path}' is not writable")
+
+
+def renamed_option(value, old_value, name: str, old_name: str):  # noqa: ANN001, ANN201
+    """One CLI grammar (``--out`` for every output): an old option name kept as a hidden alias.
+    Returns ``(value, name typed)``; the old name prints a deprecation note, both together are
+    refused."""
+    if old_value is None:
+        return value, name
+    if value is not None:
+        raise InputError(f"{old_name}: deprecated name of {name}; give only {name}")
+    console.print(f"[yellow]note:[/] {old_name} is deprecated; use {name}", highlight=False)
+    return old_value, old_name
+
+
+#: Suffixes of the files a report folder holds (figures, tables, data, reports): a folder of
+#: only these may be replaced whole with --force.
+REPORT_SUFFIXES = (".png", ".svg", ".pdf", ".csv", ".nc", ".json", ".html", ".txt")
+
+
+def check_report_dir(path: Path, option: str, force: bool) -> None:
+    """One overwrite policy for an output folder, checked before any work: a new or empty
+    folder is written; a folder with files is replaced whole only with ``--force`` (so no stale
+    figure of an earlier run stays), and only when it holds nothing but report files
+    (:data:`REPORT_SUFFIXES`, no sub-folders): ``--force`` never deletes other data."""
+    check_output_dir(path, option)
+    if not path.is_dir():
+        return
+    entries = list(path.iterdir())
+    if not entries:
+        return
+    if not force:
+        raise InputError(f"{option}: folder '{path}' exists and is not empty; pass --force to "
+                         "replace it (its files are removed) or choose another folder")
+    other = [e.name for e in entries if e.is_dir() or e.suffix.lower() not in REPORT_SUFFIXES]
+    if other:
+        raise InputError(f"{option}: folder '{path}' holds files that are not a report "
+                         f"({', '.join(sorted(other)[:3])}); --force replaces only report "
+                         "folders: choose a new folder")
+
+
+@contextmanager
+def report_folder(path: Path) -> Iterator[Path]:
+    """Write an output folder whole or not at all: yields a temporary sibling folder; on
+    success it takes the place of ``path`` (an earlier folder is removed: no stale files),
+    on an error or Ctrl-C it is deleted and ``path`` is untouched."""
+    import shutil
+    import tempfile
+
+    parent = path.parent if str(path.parent) else Path(".")
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".partial", dir=parent))
+    mask = os.umask(0)
+    os.umask(mask)
+    tmp.chmod(0o777 & ~mask)
+    try:
+        yield tmp
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    old = None
+    if path.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".old", dir=parent))
+        old.rmdir()
+        path.rename(old)
+    tmp.rename(path)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
 
 
 def check_output_dir(path: Path, option: str) -> None:

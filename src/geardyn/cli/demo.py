@@ -24,17 +24,18 @@ KINEMATIC_EXAMPLES = [
 ]
 #: Further demo steps: (title, command line after ``geardyn``; ``{ex}`` = examples folder).
 COMMAND_EXAMPLES = [
-    ("seed 002 gear stages: geometry and mesh stiffness", "stiffness {ex}/seed002_two_stage.toml"),
+    ("two-stage transmission (Thibault et al. 2024): geometry and mesh stiffness",
+     "stiffness {ex}/seed002_two_stage.toml"),
     (
-        "seed 004 planetary meshes: geometry and mesh stiffness",
+        "reclaimer planetary meshes (Wang 2010): geometry and mesh stiffness",
         "stiffness {ex}/seed004_planetary.toml",
     ),
     (
-        "seed 003 back-to-back bench, 36-DOF lumped model: modes",
+        "back-to-back bench (Hammami 2015), 36-DOF lumped model: modes",
         "modes {ex}/planetary_bench_36dof.toml",
     ),
     (
-        "seed 002 FE transmission: shaft-line modes",
+        "FE transmission (Thibault et al. 2024): shaft-line modes",
         "transmission {ex}/seed002_transmission.toml --modes-only",
     ),
 ]
@@ -62,7 +63,17 @@ def examples_dir() -> Path:
 def demo_cmd(
     examples: Path = typer.Option(None, help="examples folder (default: the repository's)"),
 ) -> None:
-    """Run the examples of the sources (seed 000, 003, 004) and print their results."""
+    """Run the examples of four sources and print their results, in order:
+
+    1. kinematics of a car differential and the Alouette III main gearbox (Penaud, Alazard &
+    Amiez 2012), the back-to-back planetary bench (Hammami 2015) and the bucket-wheel
+    reclaimer drive (Wang 2010);
+    2. gear geometry and mesh stiffness of the two-stage transmission (Thibault et al. 2024)
+    and of the reclaimer's planetary meshes (Wang 2010);
+    3. modes of the 36-DOF bench model (Hammami 2015) and of the FE transmission (Thibault et
+    al. 2024);
+    4. fault to verdict: healthy baseline against a 20 % sun-tooth crack of the reclaimer
+    gearbox (Wang 2010), `geardyn diagnose` (the longest step, about a minute)."""
     folder = examples or examples_dir()
     missing = [n for n in KINEMATIC_EXAMPLES if not (folder / n).is_file()]
     if not folder.is_dir() or missing:
@@ -85,6 +96,7 @@ def demo_cmd(
     name, options = DIAGNOSIS_EXAMPLE
     out = Path(tempfile.gettempdir()) / "geardyn-demo-diagnosis"
     args = ["diagnose", str(folder / name), "--out", str(out), *options]
-    console.rule("[bold]seed 004 reclaimer: healthy baseline vs 20 % sun-tooth crack, verdict")
+    console.rule("[bold]reclaimer gearbox (Wang 2010): healthy baseline vs 20 % sun-tooth crack, "
+                 "verdict")
     console.print(f"[dim]$ geardyn {' '.join(args)}[/]")
     command.main(args, prog_name="geardyn", standalone_mode=False)

@@ -9,7 +9,13 @@ import typer
 from rich.table import Table
 
 from geardyn.cli import app
-from geardyn.cli.common import check_number, check_output_file, console, friendly_errors
+from geardyn.cli.common import (
+    check_number,
+    check_output_file,
+    console,
+    friendly_errors,
+    renamed_option,
+)
 from geardyn.config import load_config
 from geardyn.config.gears import pair_model, pair_names
 from geardyn.errors import ConfigError
@@ -34,7 +40,11 @@ def stiffness_cmd(
     cycles: float = typer.Option(2.0, "--cycles", help="mesh cycles to tabulate/plot"),
     hunting: bool = typer.Option(False, "--hunting", help="tabulate a full hunting period"),
     samples: int = typer.Option(128, "--samples", help="samples per mesh cycle"),
-    netcdf: Path | None = typer.Option(None, "--netcdf", help="write the table (xarray)"),
+    out: Path | None = typer.Option(None, "--out", help="NetCDF file of the k(θ) table "
+                                    "(one pair: --pair NAME when the config has several)"),
+    netcdf: Path | None = typer.Option(None, "--netcdf", hidden=True,
+                                       help="deprecated name of --out"),
+    force: bool = typer.Option(False, "--force", help="overwrite an existing --out file"),
 ) -> None:
     """Gear-pair geometry and potential-energy mesh stiffness (healthy and with faults)."""
     from geardyn.gears.loaded import static_transmission_error
@@ -45,14 +55,20 @@ def stiffness_cmd(
     check_number(samples, "--samples", ge=4, le=1 << 16)
     if plot is not None:
         check_output_file(plot, "--plot")
+    netcdf, out_name = renamed_option(out, netcdf, "--out", "--netcdf")
     if netcdf is not None:
-        check_output_file(netcdf, "--netcdf")
+        from geardyn.checkpoint import check_output
+
+        check_output_file(netcdf, out_name)
+        check_output(netcdf, out_name, overwrite=force)
     cfg = load_config(config)
     names = [pair] if pair else pair_names(cfg)
     if not names:
         raise ConfigError("the config has no [[gear_geometry]] entries", source=str(config))
     if plot is not None and len(names) > 1:
         raise ConfigError("--plot needs --pair NAME when the config has several pairs")
+    if netcdf is not None and len(names) > 1:  # one file, one pair's table
+        raise ConfigError(f"{out_name} needs --pair NAME when the config has several pairs")
     for name in names:
         pm = pair_model(cfg, name)
         g = pm.geometry
