@@ -50,10 +50,36 @@ def test_init_simulate_diagnose_reaches_a_verdict(tmp_path, monkeypatch, templat
     assert "sensor channel(s)" in r.output
     r = runner.invoke(app, ["diagnose", f"{template}.toml", "--out", "diagnosis"])
     assert r.exit_code == 0, r.output
+    assert "detection" in r.output and "isolation" in r.output  # the two margins, named
+    assert "None" not in r.output
     verdict = json.loads((tmp_path / "diagnosis" / "verdict.json").read_text())
     assert verdict["summary"]["verdict"] in {"alarm", "healthy", "uncertain"}
     assert verdict["components"]  # every component judged
-    assert (tmp_path / "diagnosis" / "report.html").stat().st_size > 0
+    # provenance (issue 21): version, UTC time, the config's bytes, operating point, units
+    import datetime
+    import hashlib
+
+    import geardyn
+
+    assert verdict["geardyn_version"] == geardyn.__version__
+    created = datetime.datetime.fromisoformat(verdict["created_utc"])
+    assert created.utcoffset() == datetime.timedelta(0)
+    assert abs((datetime.datetime.now(datetime.UTC) - created).total_seconds()) < 600
+    cfg_bytes = (tmp_path / f"{template}.toml").read_bytes()
+    assert verdict["config"]["sha256"] == hashlib.sha256(cfg_bytes).hexdigest()
+    speeds = verdict["operating_point"]["input_speeds"]
+    assert speeds and all(v["unit"] == "rpm" and v["value"] > 0 for v in speeds.values())
+    assert verdict["units"]["margin"].startswith("1")
+    assert verdict["units"]["t_end_s, skip_s"] == "s"
+    import html
+    import re
+
+    report = (tmp_path / "diagnosis" / "report.html").read_text()
+    text = html.unescape(re.sub(r"<[^>]+>", " ", re.sub(
+        r"<(style|script)\b.*?</\1>", "", re.sub(r"<img[^>]*>", "", report), flags=re.S)))
+    assert "None" not in text  # a missing value prints "–"
+    assert "Input speeds: " in text and " rpm" in text and "{" not in text.split(
+        "Input speeds: ")[1][:80]
 
 
 @pytest.mark.parametrize(("cut", "message"), [

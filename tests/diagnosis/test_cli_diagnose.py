@@ -49,7 +49,9 @@ def test_bad_options_are_messages(tmp_path: Path, no_simulation, extra, message)
 def test_output_dir_checked_before_any_work(tmp_path: Path, no_simulation) -> None:
     blocker = tmp_path / "file.txt"
     blocker.write_text("not a directory")
-    res = runner.invoke(app, ["diagnose", CONFIG, "--out", str(blocker / "out")])
+    config = tmp_path / "reclaimer.toml"  # with sensors (a config without is refused first)
+    config.write_text((EXAMPLES / "planetary_reclaimer.toml").read_text() + SENSORS)
+    res = runner.invoke(app, ["diagnose", str(config), "--out", str(blocker / "out")])
     assert res.exit_code == 2
     assert "cannot write to" in res.output
 

@@ -85,9 +85,13 @@ def render_verdict(verdict, out: Path) -> None:  # noqa: ANN001 - diagnosis.Verd
     and its margin), the notes and where the files are."""
     t = Table(title=f"verdict: {verdict.machine} (channel {', '.join(verdict.channels)}, "
               f"k = {verdict.rule.k:.3g})", title_justify="left")
-    for c in ("component", "kind", "state", "worst indicator", "margin [-]", "isolation",
-              "margin [-] "):
-        t.add_column(c, justify="right" if c.startswith("margin") else "left")
+    longest = max((len(str(n)) for n in verdict.components), default=9)
+    for c in ("component", "kind", "state", "worst indicator", "detection margin [-]",
+              "isolation evidence", "isolation margin [-]"):
+        # component names whole (never cut with "…"), the margin headers wrap instead
+        t.add_column(c, justify="right" if "margin" in c else "left",
+                     no_wrap=c in ("kind", "state", "worst indicator"), overflow="fold",
+                     min_width=min(longest, 40) if c == "component" else None)
     for _, r in verdict.table().iterrows():
         t.add_row(escape(str(r["component"])), r["kind"],
                   f"[{_STYLE[r['state']]}]{r['state']}[/]", escape(str(r["worst_indicator"])),
@@ -205,6 +209,9 @@ def diagnose_cmd(
         raise InputError("--simulate-baseline: applies with --record (without --record the "
                          "baseline is always simulated)")
     cfg = load_config(config)
+    from geardyn.diagnosis.verdict import provenance
+
+    config_id = provenance(cfg, config)["config"]  # the bytes judged, hashed before any run
     problems = sensor_name_problems(cfg)
     if problems:
         raise ConfigError(problems, source=str(config))
@@ -215,7 +222,7 @@ def diagnose_cmd(
     if record is None:  # simulated runs: model, sensors, length, channels checked first
         from geardyn.diagnosis.pipeline import check_ready, options
 
-        check_ready(cfg, options(cfg, channel=channel))
+        check_ready(cfg, options(cfg, channel=channel, t_end_s=t_end, revolutions=revolutions))
         _check_skip(cfg, skip, t_end)
         _check_channel(cfg, channel)
         from geardyn.resources import check_run
@@ -248,4 +255,6 @@ def diagnose_cmd(
             verdict = diagnose(cfg, out, baseline_seeds=parse_seeds(seeds),
                                record_seed=record_seed, t_end_s=t_end,
                                revolutions=revolutions, **common)
+    verdict.provenance["config"] = config_id  # verdict.json names the config file it judged
+    verdict.write(out)
     render_verdict(verdict, out)

@@ -106,9 +106,10 @@ def check_ready(cfg: GeardynConfig, opts: DiagnosisSpec) -> None:
     no simulation): a dynamic model to simulate (:func:`geardyn.run.simulated_model`),
     ``[[sensors]]`` with at least one signal sensor (a tacho alone gives no vibration
     signal), and ``diagnosis.channel`` (``--channel``) among them. Raises ConfigError naming
-    the section or field."""
+    the section or field. The run length options are checked first (:func:`_run_length`)."""
     from geardyn.run import simulated_model
 
+    _run_length(cfg, opts)
     simulated_model(cfg)
     signal = [s.name for s in getattr(cfg, "sensors", None) or [] if s.kind != "tacho"]
     if not signal:
@@ -272,6 +273,9 @@ def _finish(
                              baseline_blocks=blocks[0] if blocks else None,
                              record_blocks=blocks[1] if blocks else None, aligned=aligned,
                              info=info, expected=expected)
+    from geardyn.diagnosis.verdict import provenance
+
+    verdict.provenance = {**provenance(cfg), **verdict.provenance}
     verdict.write(out)
     shaft = str(record_ds[f"sensors.{channel}"].attrs.get("shaft", "")) or None
     freqs = operating_frequencies(cfg, record_ds, opts.reference or shaft, opts.skip_s)

@@ -95,11 +95,37 @@ STATE_COLOURS = {"alarm": "tab:red", "uncertain": "tab:orange", "healthy": "tab:
 
 # ---------------------------------------------------------------- HTML building blocks
 def _fmt(v: Any) -> str:
+    """A value as the report prints it: numbers to 4 significant digits, "–" for a missing or
+    non-finite one (never "None"), mappings as "key value, …", lists comma-separated."""
+    if v is None:
+        return "–"
     if isinstance(v, bool | np.bool_):
         return "yes" if v else "no"
     if isinstance(v, float | np.floating):
         return "–" if not math.isfinite(float(v)) else f"{float(v):.4g}"
+    if isinstance(v, dict):
+        return ", ".join(f"{k} {_fmt(x)}" for k, x in v.items()) or "–"
+    if isinstance(v, list | tuple):
+        return ", ".join(_fmt(x) for x in v) or "–"
     return str(v)
+
+
+#: Unit suffix of a run-setting name → label unit (machine section of the report).
+_SETTING_UNITS = {"_s": "s", "_rpm": "rpm", "_hz": "Hz", "_m": "m"}
+
+
+def _setting(prefix: str, key: str, value: Any) -> tuple[str, str] | None:
+    """``("baseline t_end [s]", "1.2")`` for one baseline/record setting; None for a setting
+    left at the config's value (``None``), the ensemble members summarised by their count."""
+    if value is None:
+        return None
+    if key == "members" and isinstance(value, list):
+        return (f"{prefix} ensemble members", f"{len(value)} (the drawn speeds, loads, errors "
+                "and sensor variants of each are listed in verdict.json)")
+    for suffix, unit in _SETTING_UNITS.items():
+        if key.endswith(suffix):
+            return f"{prefix} {key.removesuffix(suffix)} [{unit}]", _fmt(value)
+    return f"{prefix} {key}", _fmt(value)
 
 
 def html_table(
@@ -618,8 +644,10 @@ def machine_section(verdict: Verdict) -> str:
     """Machine, channels, baseline and record, configured faults."""
     items = [("machine", verdict.machine), ("channel(s)", ", ".join(verdict.channels)),
              ("threshold rule", verdict.rule.describe())]
-    items += [(f"baseline {k}", _fmt(v)) for k, v in verdict.baseline.items()]
-    items += [(f"record {k}", _fmt(v)) for k, v in verdict.record.items()]
+    items += [it for k, v in verdict.baseline.items()
+              if (it := _setting("baseline", k, v)) is not None]
+    items += [it for k, v in verdict.record.items()
+              if (it := _setting("record", k, v)) is not None]
     dl = "".join(f"<tr><th class=\"txt\">{html.escape(k)}</th><td class=\"txt\">"
                  f"{html.escape(str(v))}</td></tr>" for k, v in items)
     if verdict.expected_faults is None:
@@ -638,7 +666,8 @@ def kinematics_section(freqs: CharacteristicFrequencies | None) -> str:
     """The kinematic tables at the record's operating point."""
     if freqs is None:
         return _section("Kinematics", _note("No operating point: kinematic tables left out."))
-    parts = [f"<p>Input speeds {html.escape(_fmt(freqs.inputs_rpm))} rpm; orders are events "
+    speeds = ", ".join(f"{k} {v:.4g} rpm" for k, v in freqs.inputs_rpm.items())
+    parts = [f"<p>Input speeds: {html.escape(speeds)}; orders are events "
              f"per revolution of <b>{html.escape(freqs.order_reference)}</b> "
              f"({freqs.reference_hz:.5g} Hz).</p>"]
     for attr, title, headers in KINEMATIC_TABLES:
@@ -770,7 +799,9 @@ def spectra_section(record: Features, healthy: Features | None,
         band = getattr(record, "band", None)
         parts += _figures([("envelope spectrum", fig)])
         if band is not None:
-            parts.append(_note(f"Envelope band: {_fmt(band)}"))
+            ref = getattr(record, "reference", "") or "the reference"
+            parts.append(_note(f"Envelope band: orders {_fmt(band[0])} to {_fmt(band[1])} "
+                               f"(events per revolution of {ref})"))
     kg = getattr(record, "kurtogram", None)
     if kg is not None:
         parts += _figures([("kurtogram", kurtogram_figure(kg))])

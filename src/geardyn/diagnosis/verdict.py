@@ -114,6 +114,10 @@ class Verdict:
     ``level``, ``components``, ``confidence`` (posterior), ``candidates``, ``score``."""
     stages: dict[str, str] = field(default_factory=dict)
     """Planetary stage of each planet (the planet set is one location)."""
+    provenance: dict[str, Any] = field(default_factory=dict)
+    """Who made the verdict, when and at which operating point (:func:`provenance`):
+    ``geardyn_version``, ``created_utc``, ``config`` (file and sha256 of its bytes),
+    ``operating_point``; written at the top of verdict.json with :data:`UNITS`."""
 
     @property
     def alarms(self) -> list[str]:
@@ -213,6 +217,8 @@ class Verdict:
             }
         out = {
             "schema": SCHEMA,
+            **self.provenance,
+            "units": UNITS,
             "machine": self.machine,
             "channels": list(self.channels),
             "rule": self.rule.describe(),
@@ -239,6 +245,48 @@ class Verdict:
             p = p / "verdict.json"
         write_text(p, json.dumps(self.to_dict(), indent=2, ensure_ascii=False) + "\n")
         return p
+
+
+#: Units of the numbers of verdict.json ("1": dimensionless). Indicator values, means, standard
+#: deviations, σ and thresholds carry the unit of their indicator:
+#: ``indicator_definitions[NAME].unit``.
+UNITS: dict[str, str] = {
+    "k": "1 (threshold factor: threshold = mean + k·sigma)",
+    "sigma_floor": "1 (fraction of |mean|)",
+    "margin": "1 (value / threshold; alarm above 1)",
+    "indicator value, mean, std, sigma, lower, threshold": "unit of the indicator "
+    "(indicator_definitions[NAME].unit)",
+    "n": "1 (count of baseline samples pooled)",
+    "false_alarm_probability": "1 (probability per machine)",
+    "alpha_per_test": "1 (probability per test)",
+    "confidence": "1 (posterior probability)",
+    "t_end_s, skip_s": "s",
+    "input_speeds": "rpm",
+}
+
+
+def provenance(cfg: Any, config_file: str | Path | None = None) -> dict[str, Any]:
+    """The provenance block of verdict.json: geardyn version, UTC time of the verdict (ISO
+    8601), the config file and the SHA-256 of its bytes (when the verdict comes from a file),
+    and the operating point stated in the config (input speeds in rpm)."""
+    import datetime
+    import hashlib
+
+    import geardyn
+
+    out: dict[str, Any] = {
+        "geardyn_version": geardyn.__version__,
+        "created_utc": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+    }
+    if config_file is not None:
+        p = Path(config_file)
+        out["config"] = {"file": str(p), "sha256": hashlib.sha256(p.read_bytes()).hexdigest()}
+    speeds = dict(getattr(cfg, "input_speeds_rpm", None) or {})
+    out["operating_point"] = {
+        "input_speeds": {k: {"value": float(v), "unit": "rpm"} for k, v in speeds.items()},
+        "source": "the config's input_speeds_rpm (nominal; baseline members vary them, see "
+                  "baseline.members)"}
+    return out
 
 
 def _definitions(names: set[str]) -> dict[str, Any]:
