@@ -107,6 +107,13 @@ def test_diagnose_checks_model_and_sensors_before_any_run(tmp_path, monkeypatch,
     r = runner.invoke(app, ["diagnose", str(path), "--out", str(tmp_path / "d"),
                             "--channel", "tacho_input"])
     assert r.exit_code == 2 and "is not a signal sensor" in r.output, r.output
+    r = runner.invoke(app, ["diagnose", str(path), "--out", str(tmp_path / "d"),
+                            "--reference", "nope"])
+    assert r.exit_code == 2 and "--reference" in r.output and "nope" in r.output, r.output
+    r = runner.invoke(app, ["diagnose", str(path), "--out", str(tmp_path / "d"),
+                            "--reference", "housing"])  # the frame does not turn
+    assert r.exit_code == 2 and "--reference" in r.output, r.output
+    assert not (tmp_path / "d").exists()
 
 
 def test_init_refuses_unknown_template_and_overwrite(tmp_path):

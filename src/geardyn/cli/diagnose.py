@@ -222,7 +222,8 @@ def diagnose_cmd(
     if record is None:  # simulated runs: model, sensors, length, channels checked first
         from geardyn.diagnosis.pipeline import check_ready, options
 
-        check_ready(cfg, options(cfg, channel=channel, t_end_s=t_end, revolutions=revolutions))
+        check_ready(cfg, options(cfg, channel=channel, reference=reference, t_end_s=t_end,
+                                 revolutions=revolutions))
         _check_skip(cfg, skip, t_end)
         _check_channel(cfg, channel)
         from geardyn.resources import check_run

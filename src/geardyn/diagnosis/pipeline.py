@@ -105,7 +105,8 @@ def check_ready(cfg: GeardynConfig, opts: DiagnosisSpec) -> None:
     """What a simulated diagnosis needs, checked before any run (so that a missing piece costs
     no simulation): a dynamic model to simulate (:func:`geardyn.run.simulated_model`),
     ``[[sensors]]`` with at least one signal sensor (a tacho alone gives no vibration
-    signal), and ``diagnosis.channel`` (``--channel``) among them. Raises ConfigError naming
+    signal), ``diagnosis.channel`` (``--channel``) among them and ``diagnosis.reference``
+    (``--reference``) a turning shaft of the model. Raises ConfigError naming
     the section or field. The run length options are checked first (:func:`_run_length`)."""
     from geardyn.run import simulated_model
 
@@ -121,6 +122,15 @@ def check_ready(cfg: GeardynConfig, opts: DiagnosisSpec) -> None:
     if opts.channel is not None and opts.channel not in signal:
         raise ConfigError(f"diagnosis.channel (--channel): '{opts.channel}' is not a signal "
                           f"sensor of the config (signal sensors: {', '.join(signal)})")
+    if opts.reference is not None:
+        from geardyn.config.sensors import model_names
+
+        shafts = model_names(cfg)[0] or set()
+        frame = getattr(cfg, "frame", None)
+        if opts.reference not in shafts or opts.reference == frame:
+            raise ConfigError(f"diagnosis.reference (--reference): '{opts.reference}' is not a "
+                              f"turning shaft of the model (shafts: "
+                              f"{', '.join(sorted(shafts - {frame}))})")
 
 
 def _run_length(cfg: GeardynConfig, opts: DiagnosisSpec) -> dict[str, float | None]:
