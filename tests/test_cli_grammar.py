@@ -124,3 +124,20 @@ def test_analyze_interrupted_keeps_the_earlier_folder(examples_dir, tmp_path, mo
         (folder / "new.png").write_bytes(b"new")
     assert [p.name for p in rep.iterdir()] == ["new.png"]
     assert [p.name for p in tmp_path.iterdir()] == ["rep"]
+
+
+def test_diagnose_folder_is_replaced_only_with_force(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert runner.invoke(app, ["init", "planetary"]).exit_code == 0
+    args = ["diagnose", "planetary.toml", "--out", "diag", "--seeds", "0,1", "--t-end", "0.6",
+            "--skip", "0.1", "--blocks", "2"]
+    r = runner.invoke(app, args)
+    assert r.exit_code == 0, r.output
+    (tmp_path / "diag" / "old_figure.png").write_bytes(b"stale")
+    r = runner.invoke(app, args)
+    assert r.exit_code == 2 and "--force" in r.output
+    r = runner.invoke(app, [*args, "--force"])
+    assert r.exit_code == 0, r.output
+    assert sorted(p.name for p in (tmp_path / "diag").iterdir()) == ["report.html",
+                                                                     "verdict.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["diag", "planetary.toml"]

@@ -95,7 +95,7 @@ def demo_cmd(
         command.main(args, prog_name="geardyn", standalone_mode=False)
     name, options = DIAGNOSIS_EXAMPLE
     out = Path(tempfile.gettempdir()) / "geardyn-demo-diagnosis"
-    args = ["diagnose", str(folder / name), "--out", str(out), *options]
+    args = ["diagnose", str(folder / name), "--out", str(out), "--force", *options]
     console.rule("[bold]reclaimer gearbox (Wang 2010): healthy baseline vs 20 % sun-tooth crack, "
                  "verdict")
     console.print(f"[dim]$ geardyn {' '.join(args)}[/]")

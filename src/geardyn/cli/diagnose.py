@@ -6,7 +6,8 @@ measured file of any format mapped by the config's ``[measurement]`` section, or
 result), judges that record against simulated healthy runs, or against ``--baseline FILE …``
 (measured or simulated files), or both (``--baseline … --simulate-baseline``;
 :mod:`geardyn.diagnosis.measured`). Writes
-``DIR/verdict.json`` and ``DIR/report.html`` and prints the verdict per component. Exit code 0
+``DIR/verdict.json`` and ``DIR/report.html`` (the folder whole or not at all; an existing
+non-empty one only with ``--force``) and prints the verdict per component. Exit code 0
 whether or not an alarm is raised; 2 on error.
 """
 
@@ -21,7 +22,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from geardyn.cli import app
-from geardyn.cli.common import console, friendly_errors
+from geardyn.cli.common import check_report_dir, console, friendly_errors, report_folder
 from geardyn.errors import ConfigError, InputError
 
 #: Widest table printed (characters); wider verdict tables wrap their text columns.
@@ -189,6 +190,8 @@ def diagnose_cmd(
     residuals: bool | None = typer.Option(
         None, "--residuals/--no-residuals",
         help="reference-residual indicators RR_kurtosis/RR_rms (≥ 2 baselines)"),
+    force: bool = typer.Option(False, "--force", help="replace an existing --out folder "
+                               "(its earlier files are removed, so no stale report stays)"),
 ) -> None:
     """Healthy baseline, thresholds and a verdict per component; writes verdict.json and a
     self-contained report.html."""
@@ -231,8 +234,10 @@ def diagnose_cmd(
         check_run(cfg, None, t_end, revolutions, t_end_name="--t-end",
                   revolutions_name="--revolutions")
     make_output_dir(out)
-    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
-                  console=console, transient=True) as prog:
+    check_report_dir(out, "--out", force)  # one overwrite policy: an earlier folder needs --force
+    with report_folder(out) as folder, Progress(  # written whole or not at all, no stale file
+            TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+            console=console, transient=True) as prog:
         task = prog.add_task("diagnosis", total=1.0)
 
         def progress(message: str, fraction: float) -> None:
@@ -249,13 +254,13 @@ def diagnose_cmd(
                 raise InputError("--seeds/--record-seed/--t-end/--revolutions are for "
                                  "simulated runs; they do not apply with --baseline/--record "
                                  "files (add --simulate-baseline to simulate the baseline too)")
-            verdict = diagnose_record(cfg, record, out, baseline_paths=baseline or (),
+            verdict = diagnose_record(cfg, record, folder, baseline_paths=baseline or (),
                                       simulate=simulated, baseline_seeds=parse_seeds(seeds),
                                       t_end_s=t_end, revolutions=revolutions, **common)
         else:
-            verdict = diagnose(cfg, out, baseline_seeds=parse_seeds(seeds),
+            verdict = diagnose(cfg, folder, baseline_seeds=parse_seeds(seeds),
                                record_seed=record_seed, t_end_s=t_end,
                                revolutions=revolutions, **common)
-    verdict.provenance["config"] = config_id  # verdict.json names the config file it judged
-    verdict.write(out)
+        verdict.provenance["config"] = config_id  # verdict.json names the config it judged
+        verdict.write(folder)
     render_verdict(verdict, out)
