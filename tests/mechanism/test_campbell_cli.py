@@ -175,4 +175,7 @@ def test_mechanism_campbell_equals_core_campbell(tmp_path) -> None:
     assert np.array_equal(rows[:, 1:], core_campbell(m, body, rows[:, 0], 4).values)
     assert np.allclose(rows[0, 1:], rows[-1, 1:], rtol=1e-9)
     r = runner.invoke(app, ["modes", str(path), "--out", str(tmp_path)])
-    assert r.exit_code == 2 and "--campbell" in r.output
+    assert r.exit_code == 2 and "--force" in r.output  # one overwrite policy (issue 21)
+    r = runner.invoke(app, ["modes", str(path), "--out", str(tmp_path), "--force"])
+    assert r.exit_code == 0, r.output  # --out alone: modes.nc and modes.png, no stale Campbell
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["modes.nc", "modes.png"]

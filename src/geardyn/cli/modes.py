@@ -3,7 +3,8 @@ dynamic model: the planetary model (``[planetary_dynamics]``, seed 003 ch. 3), t
 model of any mechanism (``[dynamics]``, docs/dynamics.md) or the FE shaft lines
 (``[transmission]``, seed 002, linearised at the static preload), with optional mode-shape /
 energy plots and a Campbell table (``--campbell "0:3000:7 rpm"``: frequencies against speed with
-the gyroscopic terms; ``--out DIR`` writes campbell.csv and campbell.png)."""
+the gyroscopic terms); ``--out DIR`` writes modes.nc, modes.png and, with ``--campbell``,
+campbell.csv and campbell.png."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ import typer
 from rich.table import Table
 
 from geardyn.cli import app
-from geardyn.cli.common import console, friendly_errors
+from geardyn.cli.common import check_report_dir, console, friendly_errors, report_folder
 from geardyn.errors import ConfigError, InputError
 
 #: Models of ``--model`` (the names of ``geardyn simulate --model``).
@@ -199,10 +200,10 @@ def modes_cmd(
         "config describes; planetary before mechanism; a lumped model and [transmission] "
         "together need --model)"),
     max_hz: float | None = typer.Option(None, "--max-hz", help="list modes up to this (Hz)"),
-    plot: Path | None = typer.Option(None, "--plot", help="PNG: kinetic/strain energy per "
-                                     "mode (up to --max-hz)"),
-    netcdf: Path | None = typer.Option(None, "--netcdf", help="write frequencies, shapes, "
-                                       "energy fractions (xarray)"),
+    plot: Path | None = typer.Option(None, "--plot", hidden=True, help="deprecated: "
+                                     "--out DIR writes modes.png"),
+    netcdf: Path | None = typer.Option(None, "--netcdf", hidden=True, help="deprecated: "
+                                       "--out DIR writes modes.nc"),
     campbell_spec: str | None = typer.Option(
         None, "--campbell", help="Campbell table at these speeds: 'START:STOP:COUNT UNIT' or "
         "'S1,S2,… UNIT', UNIT rpm (default) | rad/s | Hz | rev/s, e.g. '0:3000:7 rpm'; speed of "
@@ -212,17 +213,25 @@ def modes_cmd(
         "law's) or mechanism body (default: the first driven link)"),
     campbell_modes: int = typer.Option(10, "--campbell-modes", min=1,
                                        help="modes in the Campbell table"),
-    out: Path | None = typer.Option(None, "--out", help="directory for campbell.csv and "
-                                    "campbell.png (with --campbell)"),
+    out: Path | None = typer.Option(
+        None, "--out", help="output folder: modes.nc (frequencies, shapes, energy fractions), "
+        "modes.png (kinetic/strain energy per mode, up to --max-hz) and, with --campbell, "
+        "campbell.csv and campbell.png; written whole (an existing non-empty one needs "
+        "--force)"),
+    force: bool = typer.Option(False, "--force", help="replace an existing --out folder "
+                               "(its earlier files are removed, so no stale figure stays)"),
 ) -> None:
     """Natural frequencies, multiplicities, mode types, dominant motion and strain energy;
     Campbell table (frequencies against speed with gyroscopic terms)."""
     from geardyn.config import load_config
 
-    if out is not None and campbell_spec is None:
-        raise InputError("--out: writes the Campbell table and figure; give --campbell too")
-    if out is not None and not out.is_dir():
-        raise InputError(f"--out: directory '{out}' does not exist")
+    if out is not None:
+        check_report_dir(out, "--out", force)
+    for old_name, value, new in (("--netcdf", netcdf, "modes.nc"), ("--plot", plot,
+                                                                   "modes.png")):
+        if value is not None:
+            console.print(f"[yellow]note:[/] {old_name} is deprecated; use --out DIR (writes "
+                          f"{new}, and the Campbell files with --campbell)", highlight=False)
     speeds = parse_speeds(campbell_spec) if campbell_spec is not None else None
     cfg = load_config(config)
     kind = model_kind(cfg, model_kind_opt)
@@ -274,10 +283,20 @@ def modes_cmd(
 
         save_figure(res.plot(model=plot_model, max_hz=max_hz), plot)
         console.print(f"wrote {plot}")
+    cd = None
     if speeds is not None:
         cd = campbell_table(kind, cfg, model, speeds[0], speeds[1], campbell_modes, speed_of,
                             prepared)
         print_campbell(cd)
-        if out is not None:
-            for p in write_campbell(cd, out):
-                console.print(f"wrote {p}")
+    if out is not None:
+        from geardyn.checkpoint import write_atomic
+        from geardyn.plotting import save_figure
+
+        with report_folder(out) as folder:  # the whole folder or nothing, no stale figure
+            write_atomic(folder / "modes.nc",
+                         lambda tmp: res.to_dataset().to_netcdf(tmp, engine="h5netcdf"))
+            save_figure(res.plot(model=plot_model, max_hz=max_hz), folder / "modes.png")
+            names = ["modes.nc", "modes.png"]
+            if cd is not None:
+                names += [p.name for p in write_campbell(cd, folder)]
+        console.print(f"wrote {', '.join(names)} to {out}/")
