@@ -37,4 +37,8 @@ def make(path: str | Path, seed: int = 0) -> Path:
 
 
 if __name__ == "__main__":
-    print(make(sys.argv[1] if len(sys.argv) > 1 else "bench_ring_accelerometer.nc"))
+    path = make(sys.argv[1] if len(sys.argv) > 1 else "bench_ring_accelerometer.nc")
+    print(f"wrote {path}: {DURATION:g} s of a ring accelerometer (m/s2) at {FS:g} Hz with a "
+          f"once-per-revolution tacho, motor at {RPM:g} rpm (back-to-back bench, Hammami 2015)")
+    print(f"next: geardyn analyze {path} --config examples/hammami_back_to_back.toml "
+          f"--speed motor={RPM:g} --out bench_report/")
