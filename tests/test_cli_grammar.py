@@ -4,6 +4,8 @@ whole or not at all), help text for every option."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 import numpy as np
 import pytest
@@ -106,6 +108,16 @@ def test_analyze_writes_its_folder_whole_and_only_with_force(examples_dir, tmp_p
     r = runner.invoke(app, [*args, "--force"])
     assert r.exit_code == 2 and "notes.toml" in r.output
     assert (rep / "notes.toml").exists()
+
+
+def test_force_never_replaces_the_working_folder(tmp_path, monkeypatch):
+    from geardyn.cli.common import check_report_dir
+    from geardyn.errors import InputError
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "old.png").write_bytes(b"figure")
+    with pytest.raises(InputError, match="working folder"):
+        check_report_dir(Path("."), "--out", force=True)
 
 
 def test_analyze_interrupted_keeps_the_earlier_folder(examples_dir, tmp_path, monkeypatch):

@@ -132,6 +132,10 @@ def check_report_dir(path: Path, option: str, force: bool) -> None:
     if not force:
         raise InputError(f"{option}: folder '{path}' exists and is not empty; pass --force to "
                          "replace it (its files are removed) or choose another folder")
+    here = Path.cwd().resolve()
+    if path.resolve() in (here, *here.parents):
+        raise InputError(f"{option}: '{path}' is the working folder (or holds it); it cannot "
+                         "be replaced: choose a sub-folder, e.g. report/")
     other = [e.name for e in entries if e.is_dir() or e.suffix.lower() not in REPORT_SUFFIXES]
     if other:
         raise InputError(f"{option}: folder '{path}' holds files that are not a report "
