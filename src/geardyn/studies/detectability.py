@@ -388,7 +388,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.rejudge:
         from geardyn.studies.runner import rejudge
 
-        print(f"judged again: {rejudge(args.out)} configurations")
+        print(f"judged again: {rejudge(args.out, args.workers)} configurations")
     else:
         run_study(confs, args.out, scheduler=args.scheduler, workers=args.workers,
                   progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True))

@@ -192,37 +192,44 @@ def _write_pickle(path: Path, obj: Any) -> None:  # noqa: ANN401
     os.replace(tmp, path)
 
 
-def rejudge(out: str | Path) -> int:
+def rejudge(out: str | Path, workers: int = 1) -> int:
     """Judge again every stored record of the study in ``out`` with the current code (its
-    cached features and per-order statistics, no simulation) and rewrite the rows; returns
-    the configurations judged again. Rows of failed records are kept as they are."""
+    cached features and per-order statistics, no simulation) and rewrite the rows, in
+    ``workers`` processes; returns the configurations judged again. Rows of failed records are
+    kept as they are."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    paths = sorted((Path(out) / "cases").glob("*.pkl"))
+    if workers <= 1:
+        return sum(_rejudge_one(p, Path(out)) for p in paths)
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        return sum(pool.map(_rejudge_one, paths, [Path(out)] * len(paths)))
+
+
+def _rejudge_one(path: Path, out: Path) -> int:
     import pickle
 
     from geardyn.config.loader import parse_config
     from geardyn.diagnosis import pipeline as pipe
     from geardyn.diagnosis.faults import fault_list
 
-    n = 0
-    for path in sorted((Path(out) / "cases").glob("*.pkl")):
-        with path.open("rb") as fh:
-            case = pickle.load(fh)  # noqa: S301 - the study's own cache
-        conf = case["configuration"]
-        healthy = healthy_configuration(conf)
-        opts = pipe.options(healthy)
-        new = {}
-        for row, feat, rb in case["records"]:
-            rec = next(r for r in conf.records if r.label == row["record"]
-                       and r.seed == row["seed"])
-            cfg = parse_config(_apply(healthy.model_dump(), rec.update))
-            verdict = pipe.judge_features(cfg, opts, case["baseline"], feat,
-                                          baseline_blocks=case["blocks"], record_blocks=rb,
-                                          expected=fault_list(cfg))
-            new[(row["record"], row["seed"])] = {**row, **_verdict_row(verdict)}
-        rows_path = Path(out) / "rows" / f"{conf.id}.json"
-        old = json.loads(rows_path.read_text()) if rows_path.exists() else []
-        _write_rows(rows_path, [new.get((r["record"], r.get("seed")), r) for r in old])
-        n += 1
-    return n
+    with path.open("rb") as fh:
+        case = pickle.load(fh)  # noqa: S301 - the study's own cache
+    conf = case["configuration"]
+    healthy = healthy_configuration(conf)
+    opts = pipe.options(healthy)
+    new = {}
+    for row, feat, rb in case["records"]:
+        rec = next(r for r in conf.records if r.label == row["record"] and r.seed == row["seed"])
+        cfg = parse_config(_apply(healthy.model_dump(), rec.update))
+        verdict = pipe.judge_features(cfg, opts, case["baseline"], feat,
+                                      baseline_blocks=case["blocks"], record_blocks=rb,
+                                      expected=fault_list(cfg))
+        new[(row["record"], row["seed"])] = {**row, **_verdict_row(verdict)}
+    rows_path = out / "rows" / f"{conf.id}.json"
+    old = json.loads(rows_path.read_text()) if rows_path.exists() else []
+    _write_rows(rows_path, [new.get((r["record"], r.get("seed")), r) for r in old])
+    return 1
 
 
 def _verdict_row(verdict: Any) -> dict[str, Any]:  # noqa: ANN401 - a Verdict
