@@ -127,3 +127,23 @@ def test_runner_on_a_small_configuration(examples_dir, tmp_path):
     for a, b in zip(rows, again, strict=True):
         assert {k: a[k] for k in ("verdict", "location", "tests", "first_alarm")} == \
                {k: b[k] for k in ("verdict", "location", "tests", "first_alarm")}
+
+
+def test_the_page_is_generated_from_the_stored_rows():
+    """docs/detectability.md is page() of the study's rows kept in docs/data (the study's own
+    output, not a reference: this test keeps the page and its data together)."""
+    import gzip
+    import json
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    with gzip.open(root / "docs" / "data" / "detectability_rows.json.gz", "rt") as fh:
+        rows = pd.DataFrame(json.load(fh))
+    text = (root / "docs" / "detectability.md").read_text()
+    cpu_line = next(line for line in text.splitlines() if line.startswith("Regenerate:"))
+    cpu = float(cpu_line.split("(")[1].split()[0]) * 3600.0
+    want = page(rows, 0.01, "python -m geardyn.studies.detectability --out study --docs docs",
+                cpu)
+    assert want.splitlines() == text.splitlines()
+    st = statistics(rows, "report")
+    assert st["records"] >= 150 and st["detected_reported_healthy"] == 0

@@ -49,6 +49,8 @@ SEED = 2026
 #: Healthy record seeds and the seed of the faulty records (paired with the first healthy).
 HEALTHY_SEEDS = (100, 101)
 FAULT_SEED = 100
+#: Perturbation seed of the record machines (one for every configuration in this design).
+FLEET_SEED = 1
 #: Configurations per machine.
 CONFIGURATIONS = {"planetary 3 planets": 10, "planetary 4 planets": 8, "FE transmission": 10}
 #: Crack sizes of the planetary machines (fraction of the tooth thickness, seed 004 ch. 9).
@@ -162,7 +164,7 @@ def design(seed: int = SEED, counts: dict[str, int] | None = None) -> list[Confi
                 pair = next(j for j, p in enumerate(cfg.gear_geometry) if p.pair == "low")
                 records = _fe_records(names.index("output ball"), pair)
             out.append(Configuration(cid, machine, halves[i], str(base), update, f, g,
-                                     records, params))
+                                     records, params, fleet_seed=FLEET_SEED))
     return out
 
 
@@ -358,6 +360,18 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
     lines += ["", "False alarms by machine (report half):", ""]
     for m, r in sorted(rep["false_alarm_by_machine"].items()):
         lines.append(f"* {m}: {_ci(r)}")
+    failed = rows[rows["status"] != "ok"]
+    reasons = failed.groupby("status")["config"].agg(lambda c: sorted(set(c)))
+    lines += ["", "## Limitations of this run", "",
+              "* The record machines are drawn from the baseline's fleet with one perturbation "
+              f"seed for every configuration (`fleet_seed` {FLEET_SEED}): the healthy records "
+              "of seed 100 (and of 101) share their drawn speed, load, error and pin pattern "
+              "across configurations, so the false-alarm counts are correlated and their "
+              "interval is optimistic.",
+              "* Failed runs (kept as rows, not judged):"]
+    for reason, confs in reasons.items():
+        lines.append(f"  {int((failed['status'] == reason).sum())} × `{reason[:100]}` "
+                     f"({', '.join(confs)})")
     lines += ["", f"## Tune half ({tune['configurations']} configurations, not the figures "
               "above)", "",
               f"False alarms {_ci(tune['false_alarm'])}; detection {_ci(tune['detection'])}; "
