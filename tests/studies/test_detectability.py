@@ -41,7 +41,8 @@ def test_design_covers_both_simulators_and_is_split_before_running():
             "tooth spall", "tooth crack", "healthy"} <= kinds
     for c in confs:  # three sizes per fault kind, healthy records at every operating point
         sizes = Counter(r.fault_type for r in c.records)
-        assert sizes["healthy"] == 2 and all(v == 3 for k, v in sizes.items() if k != "healthy")
+        assert sizes["healthy"] == 4 and all(v == 3 for k, v in sizes.items() if k != "healthy")
+    assert len({c.fleet_seed for c in confs}) == len(confs)  # other machines per configuration
     assert len({c.params["planets"] for c in confs}) == 3  # 3 and 4 planets, FE (0)
     assert design(seed=1) != confs
 

@@ -125,3 +125,31 @@ def test_campbell_reduces_to_modes_at_rest_and_splits_with_speed(model) -> None:
     # the gyroscopic matrices are skew-symmetric (no work)
     for g in model.gyroscopic.values():
         assert np.abs(g + g.T).max() == 0.0
+
+
+def test_static_equilibrium_falls_back_to_load_continuation(examples_dir):
+    """A drawn baseline member of the seed 002 transmission (bearing clearances 30–42 µm, load
+    × 0.98 × 0.82, speed × 0.85; the detectability study's FEt-02, run 2) on which plain Newton
+    stalls at a contact kink: the load applied in four steps converges, to the same equilibrium
+    that a long plain Newton (3000 iterations) reaches."""
+    import numpy as np
+
+    from geardyn.diagnosis import pipeline
+    from geardyn.diagnosis.ensemble import member_configs
+    from geardyn.models.transmission.assembly import (
+        _equilibrium_newton,
+        build_model,
+        static_equilibrium,
+    )
+    from geardyn.studies.detectability import design
+    from geardyn.studies.runner import healthy_configuration
+
+    conf = next(c for c in design() if c.id == "FEt-02")
+    healthy = healthy_configuration(conf)
+    member = member_configs(healthy, pipeline.options(healthy))[4]
+    model = build_model(member.config)
+    assert _equilibrium_newton(model, model.load_torque, None, 1e-10, 500) is None
+    q = static_equilibrium(model, model.load_torque)
+    long = _equilibrium_newton(model, model.load_torque, None, 1e-10, 3000)
+    assert long is not None
+    assert np.max(np.abs(q - long)) < 1e-8 * max(np.max(np.abs(long)), 1e-12) + 1e-12

@@ -7,8 +7,9 @@ examples/planet_crack_4_planets.toml (21/31/83) and the seed 002 two-stage FE tr
 random from stated ranges: operating point (speed × U(0.8, 1.2), load × U(0.6, 1.2)), sensor
 (ring angle U(0°, 360°) or bearing housing and direction), housing-mode frequency and damping
 ratio, sensor noise × U(0.5, 3). Each configuration has its own healthy baseline ensemble
-(``[diagnosis.ensemble]`` defaults, as ``geardyn diagnose``) and is judged on two healthy
-records (seeds 100, 101) and nine faulty ones (three fault kinds × three sizes, seed 100):
+(``[diagnosis.ensemble]`` defaults, as ``geardyn diagnose``) and is judged on four healthy
+records (seeds 100–103) and nine faulty ones (three fault kinds × three sizes, seed 100), each
+record another machine of the same fleet (perturbation seed 1000 + configuration index):
 planetary machines a tooth crack of 10, 20, 30 % of the tooth thickness on the sun, the ring
 or one planet (drawn per configuration); the FE transmission an outer-race spall on the output
 ball bearing in its load zone (5°, 10.9°, 20° long, 100 µm deep), a spall on tooth 1 of the
@@ -47,10 +48,11 @@ from geardyn.studies.runner import Configuration, RecordSpec, read_rows, run_stu
 #: Study seed (draws of the configurations and of the halves).
 SEED = 2026
 #: Healthy record seeds and the seed of the faulty records (paired with the first healthy).
-HEALTHY_SEEDS = (100, 101)
+HEALTHY_SEEDS = (100, 101, 102, 103)
 FAULT_SEED = 100
-#: Perturbation seed of the record machines (one for every configuration in this design).
-FLEET_SEED = 1
+#: Perturbation seed of the record machines of configuration i: FLEET_SEED + i (each
+#: configuration's records are other machines of the fleet; the baselines use seed 0).
+FLEET_SEED = 1000
 #: Configurations per machine.
 CONFIGURATIONS = {"planetary 3 planets": 10, "planetary 4 planets": 8, "FE transmission": 10}
 #: Crack sizes of the planetary machines (fraction of the tooth thickness, seed 004 ch. 9).
@@ -164,7 +166,7 @@ def design(seed: int = SEED, counts: dict[str, int] | None = None) -> list[Confi
                 pair = next(j for j, p in enumerate(cfg.gear_geometry) if p.pair == "low")
                 records = _fe_records(names.index("output ball"), pair)
             out.append(Configuration(cid, machine, halves[i], str(base), update, f, g,
-                                     records, params, fleet_seed=FLEET_SEED))
+                                     records, params, fleet_seed=FLEET_SEED + len(out)))
     return out
 
 
@@ -312,10 +314,13 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
         "| machine | configurations | records per configuration | faults (three sizes each) |",
         "|---|---|---|---|",
         f"| planetary 3 planets (seed 004, 19/32/83) | {CONFIGURATIONS['planetary 3 planets']} | "
-        "2 healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, one planet |",
+        f"{len(HEALTHY_SEEDS)} healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, "
+        "one planet |",
         f"| planetary 4 planets (21/31/83) | {CONFIGURATIONS['planetary 4 planets']} | "
-        "2 healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, one planet |",
-        f"| FE transmission (seed 002) | {CONFIGURATIONS['FE transmission']} | 2 healthy + 9 "
+        f"{len(HEALTHY_SEEDS)} healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, "
+        "one planet |",
+        f"| FE transmission (seed 002) | {CONFIGURATIONS['FE transmission']} | "
+        f"{len(HEALTHY_SEEDS)} healthy + 9 "
         "faulty | outer-race spall 5/10.9/20°; tooth spall 3.1/6.25/12.5 mm long; root crack "
         "0.5/1/2 mm |",
         "",
@@ -363,11 +368,10 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
     failed = rows[rows["status"] != "ok"]
     reasons = failed.groupby("status")["config"].agg(lambda c: sorted(set(c)))
     lines += ["", "## Limitations of this run", "",
-              "* The record machines are drawn from the baseline's fleet with one perturbation "
-              f"seed for every configuration (`fleet_seed` {FLEET_SEED}): the healthy records "
-              "of seed 100 (and of 101) share their drawn speed, load, error and pin pattern "
-              "across configurations, so the false-alarm counts are correlated and their "
-              "interval is optimistic.",
+              "* The record machines are other machines of the baseline's fleet (perturbation "
+              f"seed {FLEET_SEED} + configuration index); the healthy records of one "
+              "configuration share its operating point and sensor, so they are not independent "
+              "of each other: the false-alarm interval treats them as if they were.",
               "* Failed runs (kept as rows, not judged):"]
     for reason, confs in reasons.items():
         lines.append(f"  {int((failed['status'] == reason).sum())} × `{reason[:100]}` "
@@ -391,6 +395,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                     "LocalCluster)")
     ap.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes")
     ap.add_argument("--only", default=None, help="comma-separated configuration ids to run")
+    ap.add_argument("--baselines-from", default=None, help="an earlier study folder whose "
+                    "cached baseline ensembles are reused (records simulated again)")
     ap.add_argument("--rejudge", action="store_true", help="judge the stored records again "
                     "with the current code (no simulation), then write the page")
     args = ap.parse_args(argv)
@@ -405,7 +411,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"judged again: {rejudge(args.out, args.workers)} configurations")
     else:
         run_study(confs, args.out, scheduler=args.scheduler, workers=args.workers,
-                  progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True))
+                  progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True),
+                  baselines_from=args.baselines_from)
     rows = pd.DataFrame(read_rows(args.out))
     if args.docs and len(rows):
         docs = Path(args.docs)

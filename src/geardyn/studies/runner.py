@@ -110,14 +110,16 @@ def _noise_rms(cfg: Any, channel: str) -> float:  # noqa: ANN401
     return math.nan
 
 
-def run_configuration(conf: Configuration, cases: str | Path | None = None
-                      ) -> list[dict[str, Any]]:
+def run_configuration(conf: Configuration, cases: str | Path | None = None,
+                      baseline_cache: str | Path | None = None) -> list[dict[str, Any]]:
     """Rows (one per record of ``conf``) of the verdicts against the configuration's baseline
     ensemble; a record whose run or judgement fails gets ``status`` ``failed: …`` (never
     dropped). With ``cases`` (a file path) the inputs of every verdict — the baseline's and
     the records' features and per-order statistics — are pickled there, so that
     :func:`rejudge` can judge them again without simulating (a cache the study writes and
-    reads itself)."""
+    reads itself). ``baseline_cache``: such a file of an earlier run of the same
+    configuration — its baseline ensemble is reused instead of simulated (the baseline does
+    not depend on the records)."""
     from geardyn.config.loader import parse_config
     from geardyn.diagnosis import pipeline as pipe
     from geardyn.diagnosis.ensemble import simulate_baseline
@@ -129,7 +131,12 @@ def run_configuration(conf: Configuration, cases: str | Path | None = None
     opts = pipe.options(healthy)
     run_length = pipe._run_length(healthy, opts)
     feats, blocks = [], []
-    for member, ds in simulate_baseline(healthy, opts, run_length):
+    cached = _baseline_from(baseline_cache, conf) if baseline_cache is not None else None
+    if cached is not None:
+        feats, blocks, t_cached = cached
+        t0 -= t_cached  # the baseline's CPU time as measured when it was simulated
+    for member, ds in (() if cached is not None
+                       else simulate_baseline(healthy, opts, run_length)):
         pipe._check_status(ds, f"healthy baseline {member.label}")
         ch = pipe._channel(ds, opts.channel, "healthy baseline")
         feats.append(pipe._features(ds, healthy, ch, opts))
@@ -178,8 +185,29 @@ def run_configuration(conf: Configuration, cases: str | Path | None = None
         rows.append(row)
     if cases is not None:
         _write_pickle(Path(cases), {"configuration": conf, "baseline": feats,
-                                    "blocks": blocks, "records": judged})
+                                    "blocks": blocks, "records": judged,
+                                    "baseline_cpu_s": t_base})
     return rows
+
+
+def _baseline_from(path: str | Path, conf: Configuration) -> tuple[list, list, float] | None:
+    """Baseline features, blocks and CPU time from a case cache of the same configuration
+    (same id, base, update and operating point); None when absent or of another one."""
+    import pickle
+
+    p = Path(path)
+    if not p.exists():
+        return None
+    with p.open("rb") as fh:
+        case = pickle.load(fh)  # noqa: S301 - the study's own cache
+    old = case["configuration"]
+    same = (old.id, old.base, dict(old.update), old.speed_factor, old.load_factor) == \
+        (conf.id, conf.base, dict(conf.update), conf.speed_factor, conf.load_factor)
+    if not same:
+        return None
+    t = float(case.get("baseline_cpu_s", 0.0)) or float(
+        next((r[0].get("baseline_cpu_s", 0.0) for r in case["records"]), 0.0))
+    return case["baseline"], case["blocks"], t
 
 
 def _write_pickle(path: Path, obj: Any) -> None:  # noqa: ANN401
@@ -285,9 +313,12 @@ def read_rows(out: str | Path) -> list[dict[str, Any]]:
 
 def run_study(configurations: Iterable[Configuration], out: str | Path, *,
               scheduler: str | None = None, workers: int = 2,
-              progress: Callable[[str], None] | None = None) -> int:
+              progress: Callable[[str], None] | None = None,
+              baselines_from: str | Path | None = None) -> int:
     """Run every configuration not yet stored in ``out`` on Dask (``scheduler`` address, else
     a ``LocalCluster`` of ``workers`` single-threaded processes); returns the number run.
+    ``baselines_from``: an earlier study folder whose cached baseline ensembles are reused
+    for the configurations they match (the records are simulated again).
     The design is written to ``OUT/design.json`` first; a store holding another design is
     refused."""
     from dask.distributed import Client, LocalCluster, as_completed
@@ -313,8 +344,11 @@ def run_study(configurations: Iterable[Configuration], out: str | Path, *,
                                dashboard_address=None)
         client = Client(cluster)
     try:
+        reuse = (lambda c: Path(baselines_from) / "cases" / f"{c.id}.pkl") \
+            if baselines_from else (lambda c: None)
         futures = {client.submit(run_configuration, c, out / "cases" / f"{c.id}.pkl",
-                                 pure=False, key=f"study-{c.id}"): c for c in todo}
+                                 reuse(c), pure=False, key=f"study-{c.id}"): c
+                   for c in todo}
         for n, fut in enumerate(as_completed(futures), 1):
             c = futures[fut]
             try:

@@ -549,8 +549,28 @@ def static_equilibrium(
 ) -> np.ndarray:
     """Static deflection under ``load_torque`` (N·m, resisting, at the load node) with the
     drive node's θz held (Newton with a finite-difference Jacobian; seed 002 eq 3 at rest).
+    When Newton does not converge from ``q0`` (a bearing whose clearance closes under load can
+    trap the limited steps at a contact kink), the load is applied in four steps, each solved
+    from the previous deflection (load continuation); InputError when that fails too.
 
     The drive torque is the reaction at the held DOF."""
+    q = _equilibrium_newton(model, load_torque, q0, tol, max_iter)
+    if q is not None:
+        return q
+    q = q0
+    for frac in (0.25, 0.5, 0.75, 1.0):
+        q = _equilibrium_newton(model, frac * load_torque, q, tol, max_iter)
+        if q is None:
+            raise InputError(
+                f"static equilibrium did not converge at {frac:.0%} of the load torque "
+                f"{load_torque:g} N·m, also with the load applied in steps (check clearances "
+                "and loads)")
+    return q
+
+
+def _equilibrium_newton(model: TransmissionModel, load_torque: float, q0: np.ndarray | None,
+                        tol: float, max_iter: int) -> np.ndarray | None:
+    """Newton iterations of :func:`static_equilibrium` (None when they do not converge)."""
     n = model.ndof
     held = 6 * model.drive_node + 5
     free = np.setdiff1d(np.arange(n), [held])
@@ -599,7 +619,7 @@ def static_equilibrium(
             qt = q.copy()
             qt[free] += alpha * dq
         q = qt
-    raise InputError("static equilibrium did not converge (check clearances and loads)")
+    return None
 
 
 def mesh_state(
