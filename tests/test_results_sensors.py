@@ -246,9 +246,10 @@ def test_read_signal_refuses_nd_variables(tmp_path):
                     coords={"time": np.arange(64) / 100.0})
     p = tmp_path / "x.nc"
     ds.to_netcdf(p, engine="h5netcdf")
-    with pytest.raises(InputError, match="choose one of: a, b"):
+    with pytest.raises(InputError, match="choose one with --channel .*: a, b"):
         read_signal(p)
-    with pytest.raises(InputError, match="dims"):
+    # a 2-D variable is no signal channel: refused, naming it and the channels there are
+    with pytest.raises(InputError, match="channel 'q'.*channels a, b"):
         read_signal(p, channel="q")
     assert read_signal(p, channel="b").x.size == 64
 

@@ -412,3 +412,22 @@ def test_a_shaft_yields_to_the_sun_wheel_it_carries():
     _run(v, ev, items)
     assert v.location == ["st.sun"]
     assert any("in: shaft evidence yields to st.sun" in n for n in v.notes)
+
+
+def test_pooled_scores_by_hand():
+    """z = log(value/mean)/(s_p·√(1 + 1/n)), s_p² = Σ(n−1)s²/Σ(n−1) per evidence kind: a domain
+    whose few baseline runs happened to agree (small s) does not outrank a larger change."""
+    from geardyn.diagnosis.localise import pooled_scores
+
+    def ev(measure, value, mean, std, n):
+        return Evidence("c", measure, value, mean, std, 1.0, z=99.0, n=n)
+
+    tight = ev("cSDR", 15.0, 1.0, 0.1, 12)    # 15× its mean, own z = 25.9
+    wide = ev("cSDR", 30.0, 1.0, 0.7, 6)      # 30× its mean, own z = 4.5
+    band = ev("BPFO band energy", 4.0, 2.0, 0.2, 12)
+    score = pooled_scores([tight, wide, band])
+    sp = math.sqrt((11 * 0.1**2 + 5 * 0.7**2) / 16)
+    assert score(tight) == pytest.approx(math.log(15.0) / (sp * math.sqrt(13 / 12)))
+    assert score(wide) == pytest.approx(math.log(30.0) / (sp * math.sqrt(7 / 6)))
+    assert score(wide) > score(tight)
+    assert score(band) == pytest.approx(math.log(2.0) / (0.2 * math.sqrt(13 / 12)))

@@ -277,6 +277,6 @@ def test_analyze_through_the_measurement_mapping(tmp_path, sim_run):
     assert float(spec["order"].max()) >= 0.9 * 2500.0 / f_ref
     assert (tmp_path / "out" / "order_spectrum_band.png").is_file()
     res = runner.invoke(app, ["analyze", str(path), "--config", str(cfg), "--speed", "sun=30",
-                              "--out", str(tmp_path / "out")])
+                              "--out", str(tmp_path / "out2")])
     assert res.exit_code == 2 and "[measurement] section maps the record" in \
         " ".join(res.output.split())

@@ -67,7 +67,8 @@ def test_walkthrough(tmp_path):
 
 def test_levels_follow_sidak():
     """k of each level is Φ⁻¹(1 − α), α = 1 − (1 − P)^(1/m) over the m usable indicators;
-    the level is μ + k·σ with σ the corrected spread (one value per reference record)."""
+    the level is exp(μ + k·σ) of the log values with σ the corrected spread (one value per
+    reference record; positive indicators on the log scale)."""
     from scipy.stats import norm, t
 
     from geardyn.trend.levels import trend_levels
@@ -86,8 +87,9 @@ def test_levels_follow_sidak():
     vals = np.array([r["value"].iloc[0] for r in refs])
     n, k = vals.size, lv.k_alarm
     c = t.ppf(norm.cdf(k), n - 1) * math.sqrt(1 + 1 / n) / k  # small-sample factor
-    sigma = max(c * vals.std(ddof=1), 0.05 * abs(vals.mean()))
-    assert row["alarm"] == pytest.approx(vals.mean() + k * sigma, rel=1e-12)
+    logs = np.log(vals)  # a positive higher-is-worse indicator: log scale (docs/diagnosis.md)
+    sigma = max(c * logs.std(ddof=1), math.log1p(0.05))
+    assert row["alarm"] == pytest.approx(math.exp(logs.mean() + k * sigma), rel=1e-12)
     with pytest.raises(InputError, match="at least 2"):
         trend_levels(refs[:1])
 

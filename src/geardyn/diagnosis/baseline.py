@@ -196,8 +196,9 @@ def _row(key: dict[str, str], v: np.ndarray, rule: ThresholdRule) -> dict[str, o
     sigma = max(spread, floor)
     upper = mean + rule.k * sigma
     lower = mean - rule.k * sigma if dirn == "two-sided" else math.nan
-    if log:
-        mean, upper = math.exp(mean), math.exp(upper)
+    if log:  # a spread too wide for exp's range leaves no usable threshold
+        mean = math.exp(mean)
+        upper = math.exp(upper) if upper < 700.0 else math.inf
     usable = n > 0 and math.isfinite(upper) and sigma > 0
     return {**key, "direction": dirn, "scale": "log" if log else "linear", "n": n,
             "mean": mean, "std": std, "sigma": sigma, "lower": lower, "upper": upper,

@@ -172,9 +172,10 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
                 notes.append(f"{', '.join(members)}: shaft evidence yields to "
                              f"{', '.join(same)}, which it carries (the more specific "
                              "explanation of the change)")
-    scores = {g: top_ev[m[0]].z for g, m in groups.items()}
+    zp = pooled_scores([*top_ev.values(), *planet_ev.values()])
+    scores = {g: zp(top_ev[m[0]]) for g, m in groups.items()}
     for g, members in groups.items():  # a planet set: its planets' own frames seen apart too
-        seen = [planet_ev[m].z for m in members if m in planet_ev]
+        seen = [zp(planet_ev[m]) for m in members if m in planet_ev]
         if seen and _one_planet_set(members, info, kind):
             scores[g] = combined_score([scores[g], *seen])
     post = posterior(scores)
@@ -258,8 +259,36 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
 
 
 _SCORE = ("posterior probability of each location hypothesis: uniform prior, likelihood "
-          "ratio exp(½·max(z, 0)²) of its evidence's Gaussian-equivalent score z against the "
-          "healthy ensemble")
+          "ratio exp(½·max(z, 0)²) of z = log(value / healthy geometric mean) over the "
+          "pooled log-spread of the record's evidence of that kind")
+
+
+def pooled_scores(evidence: Sequence[Evidence]) -> Any:  # noqa: ANN401 - a function
+    """Scores that compare hypotheses on one footing: ``z = log(value/mean) / (s_p·√(1 +
+    1/n))`` with s_p the pooled log-spread of the record's evidence of one kind (coherent SDR
+    of every domain; fault-band energies), s_p² = Σ (n_d − 1)·s_d² / Σ (n_d − 1) — the pooled
+    variance of a one-way layout (each domain's spread from a few baseline runs is itself
+    uncertain; its own z would favour a domain whose few runs happened to agree). Whether a
+    domain's evidence passes is still judged against its own spread (:meth:`Evidence.
+    passes_at`)."""
+    def family(ev: Evidence) -> str:
+        return "band" if "band energy" in ev.measure else "coherent"
+
+    acc: dict[str, list[float]] = {}
+    for ev in evidence:
+        if ev.n >= 2 and math.isfinite(ev.std) and math.isfinite(ev.mean) and ev.mean > 0:
+            a = acc.setdefault(family(ev), [0.0, 0.0])
+            a[0] += (ev.n - 1) * ev.std**2
+            a[1] += ev.n - 1
+    pooled = {f: math.sqrt(a[0] / a[1]) for f, a in acc.items() if a[1] > 0}
+
+    def score(ev: Evidence) -> float:
+        sp = pooled.get(family(ev))
+        if sp is None or not (ev.n >= 2 and ev.mean > 0 and ev.value > 0) or sp <= 0:
+            return float(ev.z)
+        return math.log(ev.value / ev.mean) / (sp * math.sqrt(1.0 + 1.0 / ev.n))
+
+    return score
 
 
 def combined_score(scores: Sequence[float]) -> float:
@@ -332,5 +361,5 @@ def expected_match(location: list[str], expected: list[str], carriers: set[str],
             "planet_named": named if any(kinds.get(c) == "planet" for c in expected) else None}
 
 
-__all__ = ["combined_score", "expected_match", "localise", "name_planet", "posterior",
-           "sidak_alpha"]
+__all__ = ["combined_score", "expected_match", "localise", "name_planet", "pooled_scores",
+           "posterior", "sidak_alpha"]
