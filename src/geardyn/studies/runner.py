@@ -326,13 +326,16 @@ def run_study(configurations: Iterable[Configuration], out: str | Path, *,
     confs = list(configurations)
     out = Path(out)
     (out / "rows").mkdir(parents=True, exist_ok=True)
-    design = json.dumps([asdict(c) for c in confs], indent=1, sort_keys=True,
-                        default=_json_default)
+    mine = {c.id: json.loads(json.dumps(asdict(c), default=_json_default)) for c in confs}
     dfile = out / "design.json"
-    if dfile.exists() and dfile.read_text() != design:
-        raise ConfigError(f"--out: {out} holds the rows of another study design; choose a new "
-                          "folder (or delete it)")
-    dfile.write_text(design)
+    stored = {d["id"]: d for d in json.loads(dfile.read_text())} if dfile.exists() else {}
+    clash = sorted(i for i, d in mine.items() if i in stored and stored[i] != d)
+    if clash:
+        raise ConfigError(f"--out: {out} holds other configurations under the ids "
+                          f"{', '.join(clash[:5])}; choose a new folder (or delete it)")
+    merged = {**stored, **mine}
+    dfile.write_text(json.dumps([merged[i] for i in sorted(merged)], indent=1,
+                                sort_keys=True))
     todo = [c for c in confs if c.id not in done_ids(out)]
     if not todo:
         return 0
