@@ -148,3 +148,14 @@ def test_the_page_is_generated_from_the_stored_rows():
     assert want.splitlines() == text.splitlines()
     st = statistics(rows, "report")
     assert st["records"] >= 150 and st["detected_reported_healthy"] == 0
+
+
+@pytest.mark.parametrize(("argv", "named"), [
+    (["--workers", "0"], "--workers"), (["--only", "nope"], "--only"),
+    (["--rejudge"], "--rejudge")])
+def test_study_command_refuses_bad_options(tmp_path, capsys, argv, named):
+    from geardyn.studies.detectability import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--out", str(tmp_path / "s"), *argv])
+    assert exc.value.code == 2 and named in capsys.readouterr().err

@@ -400,10 +400,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--rejudge", action="store_true", help="judge the stored records again "
                     "with the current code (no simulation), then write the page")
     args = ap.parse_args(argv)
+    if args.workers < 1:
+        ap.error(f"--workers: must be >= 1, got {args.workers}")
     confs = sorted(design(), key=lambda c: (int(c.id.split("-")[1]), c.machine))  # interleaved
     if args.only:
-        keep = set(args.only.split(","))
+        keep = {i.strip() for i in args.only.split(",") if i.strip()}
+        unknown = sorted(keep - {c.id for c in confs})
+        if unknown or not keep:
+            ap.error(f"--only: unknown configuration id(s) {', '.join(unknown) or '(none)'}; "
+                     f"the design has {', '.join(c.id for c in confs)}")
         confs = [c for c in confs if c.id in keep]
+    if args.rejudge and not (Path(args.out) / "cases").is_dir():
+        ap.error(f"--rejudge: {args.out} holds no cached configurations (cases/)")
     t0 = time.time()
     if args.rejudge:
         from geardyn.studies.runner import rejudge
@@ -414,7 +422,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                   progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True),
                   baselines_from=args.baselines_from)
     rows = pd.DataFrame(read_rows(args.out))
-    if args.docs and len(rows):
+    if rows.empty:
+        print("no rows stored yet")
+        return 0
+    if args.docs:
         docs = Path(args.docs)
         figures(rows, docs / "img")
         cpu = float(rows.drop_duplicates("config")["baseline_cpu_s"].fillna(0).sum()
