@@ -62,6 +62,12 @@ BEARING_SPALL_DEG = (5.0, 10.909, 20.0)
 TOOTH_SPALL_LENGTH_M = (3.125e-3, 6.25e-3, 12.5e-3)
 TOOTH_CRACK_M = (0.5e-3, 1.0e-3, 2.0e-3)
 
+#: Unit of each fault kind's size.
+SIZE_UNITS = {"sun crack": "1 (of the tooth thickness)", "ring crack": "1 (of the tooth "
+              "thickness)", "planet crack": "1 (of the tooth thickness)",
+              "bearing outer-race spall": "deg", "tooth spall": "m (axial length)",
+              "tooth crack": "m (depth)"}
+
 _ROOT = Path(__file__).resolve().parents[3]
 
 
@@ -347,11 +353,11 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
         "",
         "### Probability of detection by fault and size",
         "",
-        "| machine | fault | size | detected |",
-        "|---|---|---|---|",
+        "| machine | fault | size | unit | detected |",
+        "|---|---|---|---|---|",
     ]
     for (m, k, s), r in sorted(rep["pod"].items()):
-        lines.append(f"| {m} | {k} | {s:g} | {_ci(r)} |")
+        lines.append(f"| {m} | {k} | {s:g} | {SIZE_UNITS.get(k, '')} | {_ci(r)} |")
     lines += ["", "![POD against size](img/detectability_pod_size.png)", "",
               "### Probability of detection against SNR", "",
               "| SNR | detected |", "|---|---|"]
