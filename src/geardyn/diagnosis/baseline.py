@@ -27,6 +27,17 @@ of the n samples (values or logarithms),
   future observation of a normal sample: Hahn & Meeker, *Statistical Intervals*, 1991, ch. 4).
   c_n = 7.4 for n = 3, 2.0 for n = 6, 1.3 for n = 12, → 1 for large n; a single sample
   (n = 1) has no spread estimate and keeps only the floor below;
+* **runs**: baseline records measured on one dynamic run (``measurements_per_run`` sensor
+  variants of one simulated machine) share its dynamics, so they are not n independent
+  machines. Given the run of each record (``runs``), the samples are taken as a one-way
+  random-effects model (runs, and records within runs; Searle, Casella & McCulloch 1992,
+  ch. 3): with R runs, group means ȳ_r, their mean ȳ, S_b² their variance, MS_w the pooled
+  within-run variance and h the mean of 1/m_r over the runs' record counts m_r, the variance
+  of a new record minus ȳ is V = (1 + 1/R)·S_b² + (1 − h)·MS_w (not below (1 + h/R)·MS_w, the
+  value without a run effect) with Satterthwaite's (1946) degrees of freedom
+  ν = V² / ((1 + 1/R)²S_b⁴/(R − 1) + (1 − h)²MS_w²/(N − R)); the bound is
+  ȳ + t_ν·√V. One record per run gives back the bound above (V = (1 + 1/n)·s², ν = n − 1);
+  without ``runs`` every record is its own run;
 * σ = max(c_n·s, floor) with the floor a fraction ``f`` (``sigma_floor``, default 5 %) of the
   mean (log scale: log(1 + f)), so that a deterministic baseline (simulated, nearly identical
   seeds) does not alarm on numerical noise;
@@ -44,7 +55,7 @@ give the geometric mean and the standard deviation of the logarithm).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -103,6 +114,20 @@ class ThresholdRule:
             f"{self.k:g}·σ) for {', '.join(sorted(TWO_SIDED))}"
         )
 
+    def prediction_sigma(self, x: np.ndarray, runs: np.ndarray | None = None) -> float:
+        """σ of the rule for samples ``x`` (before the floor): c_n·s for independent samples,
+        t_ν(Φ(k))·√V/k for records grouped by ``runs`` (:func:`prediction_spread`)."""
+        x = np.asarray(x, float)
+        if x.size < 2:
+            return 0.0
+        if not self.small_sample:
+            return float(x.std(ddof=1))
+        from scipy.stats import norm
+        from scipy.stats import t as student
+
+        _, sd, df = prediction_spread(x, runs)
+        return float(student.ppf(norm.cdf(self.k), df)) * sd / self.k
+
     def spread_factor(self, n: np.ndarray) -> np.ndarray:
         """c_n for sample counts ``n`` (1 where n < 2: no spread estimate, or no correction)."""
         n = np.asarray(n, dtype=float)
@@ -114,6 +139,37 @@ class ThresholdRule:
         df = np.maximum(n - 1, 1)
         c = student.ppf(norm.cdf(self.k), df) * np.sqrt(1 + 1 / np.maximum(n, 1)) / self.k
         return np.where(n >= 2, c, 1.0)
+
+
+def prediction_spread(x: np.ndarray, runs: Sequence[object] | np.ndarray | None = None
+                      ) -> tuple[float, float, float]:
+    """Centre, standard deviation and degrees of freedom of the prediction of one new record
+    from samples ``x`` grouped by ``runs`` (module docstring, "runs"): ``(ȳ, √V, ν)``. Without
+    runs, or with one record per run, ``(mean, s·√(1 + 1/n), n − 1)`` (Hahn & Meeker 1991,
+    ch. 4). A single run carries no run-to-run spread: its records are taken as independent.
+    """
+    x = np.asarray(x, float)
+    n = x.size
+    if n < 2:
+        return (float(x.mean()) if n else math.nan), math.nan, math.nan
+    labels = (np.arange(n) if runs is None
+              else np.unique(np.asarray(runs, dtype=object).astype(str),
+                             return_inverse=True)[1])
+    n_runs = int(labels.max()) + 1
+    if n_runs == n or n_runs < 2:
+        return float(x.mean()), float(x.std(ddof=1) * math.sqrt(1.0 + 1.0 / n)), n - 1.0
+    m = np.bincount(labels).astype(float)
+    means = np.bincount(labels, weights=x) / m
+    centre = float(means.mean())
+    s_b2 = float(means.var(ddof=1))
+    ms_w = float(np.sum((x - means[labels]) ** 2) / (n - n_runs))
+    h = float(np.mean(1.0 / m))
+    a = (1.0 + 1.0 / n_runs) * s_b2
+    b = (1.0 - h) * ms_w
+    v = max(a + b, (1.0 + h / n_runs) * ms_w)
+    den = a * a / (n_runs - 1) + b * b / (n - n_runs)
+    df = v * v / den if den > 0 else n - 1.0
+    return centre, math.sqrt(v), float(min(max(df, 1.0), n - 1.0))
 
 
 def direction(indicator: str) -> str:
@@ -151,7 +207,8 @@ def pool(tables: pd.DataFrame | Iterable[pd.DataFrame]) -> pd.DataFrame:
 
 
 def thresholds(
-    baseline: pd.DataFrame | Iterable[pd.DataFrame], rule: ThresholdRule | None = None
+    baseline: pd.DataFrame | Iterable[pd.DataFrame], rule: ThresholdRule | None = None,
+    runs: Sequence[object] | None = None,
 ) -> pd.DataFrame:
     """Thresholds per ``(component, kind, indicator, channel)`` from baseline tables.
 
@@ -159,10 +216,16 @@ def thresholds(
     upper, usable``: ``n`` pooled finite samples, ``std`` their sample standard deviation,
     ``sigma`` the corrected and floored spread, ``upper`` = mean + k·sigma, ``lower`` =
     mean − k·sigma for two-sided indicators (NaN otherwise). Indicators in
-    :data:`NOT_JUDGED` are left out.
+    :data:`NOT_JUDGED` are left out. ``runs``: the dynamic run of each baseline table (records
+    of one run share its dynamics; module docstring), None: every table its own run.
     """
     rule = rule or ThresholdRule()
     rows = pool(baseline)
+    n_tables = int(rows["record"].max()) + 1
+    if runs is not None and len(runs) != n_tables:
+        raise InputError(f"runs: one run label per baseline table ({n_tables}), got {len(runs)}")
+    run_of = (np.arange(n_tables).astype(str) if runs is None or None in list(runs)
+              else np.asarray([str(r) for r in runs]))
     rows = rows[[direction(str(i)) != "none" for i in rows["indicator"]]]
     if rows.empty:
         raise InputError("baseline: no thresholdable indicator in the baseline tables")
@@ -174,7 +237,11 @@ def thresholds(
         rows = pd.concat([per.loc[records >= 2], blocks], ignore_index=True)
     out = []
     for key, g in rows.groupby(KEYS, sort=False):
-        out.append(_row(dict(zip(KEYS, key, strict=True)), g["value"].to_numpy(float), rule))
+        grouped = run_of[g["record"].to_numpy(int)]
+        if len(set(zip(grouped, g["record"], strict=True))) != len(g):  # block rows
+            grouped = None
+        out.append(_row(dict(zip(KEYS, key, strict=True)), g["value"].to_numpy(float), rule,
+                        grouped))
     if not out:
         raise InputError("baseline: no finite indicator value in the baseline tables")
     stats = pd.DataFrame(out)
@@ -183,15 +250,17 @@ def thresholds(
     return stats[cols]
 
 
-def _row(key: dict[str, str], v: np.ndarray, rule: ThresholdRule) -> dict[str, object]:
-    """Threshold row of one key from its samples ``v`` (module docstring)."""
+def _row(key: dict[str, str], v: np.ndarray, rule: ThresholdRule,
+         runs: np.ndarray | None = None) -> dict[str, object]:
+    """Threshold row of one key from its samples ``v`` (of the runs ``runs``; module
+    docstring)."""
     dirn = direction(str(key["indicator"]))
     n = int(v.size)
     log = rule.log_scale and dirn == "upper" and n > 0 and bool(np.all(v > 0))
     x = np.log(v) if log else v
-    mean = float(x.mean()) if n else math.nan
+    mean = prediction_spread(x, runs)[0] if n else math.nan
     std = float(x.std(ddof=1)) if n > 1 else (0.0 if n else math.nan)
-    spread = float(rule.spread_factor(np.array([n]))[0]) * std
+    spread = rule.prediction_sigma(x, runs)
     floor = math.log1p(rule.sigma_floor) if log else rule.sigma_floor * abs(mean)
     sigma = max(spread, floor)
     upper = mean + rule.k * sigma

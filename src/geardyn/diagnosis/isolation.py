@@ -427,6 +427,11 @@ class Evidence:
     (:func:`deviation_power`), compared between the planets of one set."""
     dof: float = math.nan
     """Degrees of freedom of ``power``."""
+    scale: float = math.nan
+    """Standard deviation of the prediction of a healthy record's log statistic (with the
+    runs of the null sample: :func:`geardyn.diagnosis.baseline.prediction_spread`)."""
+    df: float = math.nan
+    """Degrees of freedom of ``scale``."""
 
     @property
     def passed(self) -> bool:
@@ -440,8 +445,11 @@ class Evidence:
 
         if self.n < 2 or not np.isfinite(self.mean) or self.mean <= 0:
             return math.nan
-        scale = max(self.std, LOG_SPREAD_FLOOR) * math.sqrt(1.0 + 1.0 / self.n)
-        return math.exp(math.log(self.mean) + float(student.isf(alpha, self.n - 1)) * scale)
+        if np.isfinite(self.scale) and np.isfinite(self.df):
+            scale, df = self.scale, self.df
+        else:
+            scale, df = max(self.std, LOG_SPREAD_FLOOR) * math.sqrt(1.0 + 1.0 / self.n), self.n - 1
+        return math.exp(math.log(self.mean) + float(student.isf(alpha, df)) * scale)
 
     def passes_at(self, alpha: float) -> bool:
         """The record's value exceeds :meth:`bound` at ``alpha``."""
@@ -461,7 +469,8 @@ LOG_SPREAD_FLOOR = 0.01
 
 
 def evidence_from_null(component: str, measure: str, value: float, null: Sequence[float],
-                       alpha: float, group: str = "") -> Evidence:
+                       alpha: float, group: str = "",
+                       runs: Sequence[object] | None = None) -> Evidence:
     """Evidence of ``value`` against the null sample ``null`` (the statistic of each healthy
     baseline member), on the log scale (the statistics are positive ratios with right-skewed
     spread): with μ, s the mean and sample std (ddof = 1, floored at
@@ -473,24 +482,32 @@ def evidence_from_null(component: str, measure: str, value: float, null: Sequenc
     estimated spread); the localisation posterior compares the hypotheses of one record by
     their scores z on one footing (a Gaussian likelihood ratio: with few members the Student
     tails would make every large score look alike). Fewer than 2 null values: no threshold
-    (NaN)."""
+    (NaN). ``runs``: the dynamic run of each null value — members measured on one run share
+    its dynamics, and μ, the prediction spread and its degrees of freedom come from the
+    random-effects model of :func:`geardyn.diagnosis.baseline.prediction_spread` (one value
+    per run: the formulas above)."""
     from scipy.stats import t as student
 
-    vals = np.asarray([v for v in null if np.isfinite(v)], float)
+    from geardyn.diagnosis.baseline import prediction_spread
+
+    finite = [i for i, v in enumerate(null) if np.isfinite(v)]
+    vals = np.asarray([null[i] for i in finite], float)
+    tags = (None if runs is None or None in list(runs)
+            else np.asarray([str(runs[i]) for i in finite]))
     tiny = np.finfo(float).tiny
     n = vals.size
     if n < 2 or not np.isfinite(value):
         return Evidence(component, measure, float(value), math.nan, math.nan, math.nan,
                         group=group, n=n, null=tuple(float(v) for v in vals))
     logs = np.log(np.maximum(vals, tiny))
-    mu = float(np.mean(logs))
+    mu, sd, df = prediction_spread(logs, tags)
     s = max(float(np.std(logs, ddof=1)), LOG_SPREAD_FLOOR)
-    scale = s * math.sqrt(1.0 + 1.0 / n)
-    threshold = math.exp(mu + float(student.isf(alpha, n - 1)) * scale)
+    scale = max(sd, LOG_SPREAD_FLOOR * math.sqrt(1.0 + 1.0 / n))
+    threshold = math.exp(mu + float(student.isf(alpha, df)) * scale)
     z = (math.log(max(float(value), tiny)) - mu) / scale
-    p = float(student.sf(z, n - 1))
+    p = float(student.sf(z, df))
     return Evidence(component, measure, float(value), math.exp(mu), s, threshold, z=z, p=p,
-                    n=n, group=group, null=tuple(float(v) for v in vals))
+                    n=n, group=group, null=tuple(float(v) for v in vals), scale=scale, df=df)
 
 
 # ---- coherent (per-order) synchronous deviation -----------------------------------------
@@ -624,7 +641,7 @@ def coherent_evidence(component: str, measure: str, record: OrderStats,
     null = [coherent_sdr(b, [o for j, o in enumerate(baselines) if tag[j] != tag[i]])
             for i, b in enumerate(baselines)]
     return evidence_from_null(component, measure, coherent_sdr(record, baselines), null,
-                              alpha, group)
+                              alpha, group, runs=tag)
 
 
 def domain_stats(blocks: IsolationBlocks) -> dict[str, OrderStats]:
@@ -734,11 +751,13 @@ def band_energy_share(orders: np.ndarray, spectrum: np.ndarray, line: float,
 
 
 def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
-                     order_max: float | None = None) -> dict[str, Evidence]:
+                     order_max: float | None = None,
+                     runs: Sequence[object] | None = None) -> dict[str, Evidence]:
     """Per bearing, the fault-band energy share (:func:`band_energy_share`) of each of its
     lines (BPFO, BPFI, BSF, FTF) in the record's squared-envelope spectrum against the same
-    share in every baseline member (:func:`evidence_from_null`); the bearing's evidence is
-    its line with the largest score. Each line is one test at ``alpha``."""
+    share in every baseline member (:func:`evidence_from_null`, ``runs``: the dynamic run of
+    each member); the bearing's evidence is its line with the largest score. Each line is one
+    test at ``alpha``."""
     spec = getattr(record, "envelope_spectrum", None)
     comps = getattr(record, "components", None)
     if spec is None or comps is None:
@@ -756,7 +775,7 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
             value = band_energy_share(o, np.asarray(spec.values, float), f, order_max)
             null = [band_energy_share(bo, bs, f, order_max) for bo, bs in base]
             ev = evidence_from_null(c.name, f"{line} band energy", value, null, alpha,
-                                    group=c.name)
+                                    group=c.name, runs=runs)
             best = out.get(c.name)
             if best is None or (np.isfinite(ev.z) and not ev.z <= best.z):
                 out[c.name] = ev

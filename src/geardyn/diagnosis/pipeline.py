@@ -234,9 +234,14 @@ def judge_features(
     tables = [f.table for f in baseline]
     blocks_ok = (record_blocks is not None and baseline_blocks is not None
                  and len(baseline_blocks) >= 2)
+    # the dynamic run of each baseline member: measurements of one run share its dynamics
+    runs = ([getattr(b, "run", None) for b in baseline_blocks]
+            if baseline_blocks is not None and len(baseline_blocks) == len(baseline) else None)
+    if runs is not None and None in runs:
+        runs = None
     # m tests: every usable (component, indicator, channel) threshold the record has a value
     # for, and every isolation statistic
-    th0 = thresholds(tables, ThresholdRule(sigma_floor=opts.sigma_floor))
+    th0 = thresholds(tables, ThresholdRule(sigma_floor=opts.sigma_floor), runs)
     keys = set(map(tuple, record_values(record.table)[["component", "kind", "indicator",
                                                         "channel"]].to_numpy().tolist()))
     m_det = sum(1 for r in th0[th0["usable"]][["component", "kind", "indicator", "channel"]]
@@ -250,14 +255,14 @@ def judge_features(
         alpha = sidak_alpha(p_fa, m)
         k = float(norm.isf(alpha))
     rule = ThresholdRule(k=k, sigma_floor=opts.sigma_floor)
-    th = thresholds(tables, rule)
+    th = thresholds(tables, rule, runs)
     items = record.components.items if record.components is not None else []
     verdict = judge(record.table, th, rule, machine=cfg.name,
                     baseline=(info or ({}, {}))[0], record_info=(info or ({}, {}))[1],
                     expected_faults=expected, components=[(c.name, c.kind) for c in items],
                     notes=record.notes)
     verdict.stages = {c.name: c.stage for c in items if c.stage}
-    evidence = bearing_evidence(baseline, record, alpha)
+    evidence = bearing_evidence(baseline, record, alpha, runs=runs)
     if blocks_ok:
         evidence.update(sdr_evidence(baseline_blocks, record_blocks, alpha))
     localise(verdict, evidence, record.components, alpha=alpha, false_alarm_probability=p_fa,
