@@ -155,6 +155,10 @@ class StageDynamics(_M):
     planet: MemberParams
     planet_bearing_n_per_m: float = Field(gt=0, description="planet bearing, radial and "
                                           "tangential (N/m)")
+    planet_bearing_damping_ns_per_m: float = Field(
+        0.0, ge=0, description="viscous damper across each planet bearing, radial and "
+        "tangential (N·s/m; Wang 2010 Table 7-1 c_px = c_py = 1e10, which pins the planets to "
+        "the carrier)")
     sun_mesh: MeshParams
     ring_mesh: MeshParams
     transmission_error: bool = Field(False, description="seed 004 pitch + profile errors")

@@ -9,12 +9,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.signal import detrend, find_peaks
+from scipy.stats import kendalltau
 
-from ._reclaimer import ZP, ZR, ZS, mesh_cycles, run
+from ._reclaimer import R_C, ZP, ZR, ZS, mesh_cycles, run
 
 T_END = 8.0  # s ≈ 67 mesh cycles, 2 planet revolutions relative to the carrier
 
-pytestmark = pytest.mark.slow  # five 8 s runs of the 19-DOF model (≈ 8 s on one core)
+pytestmark = pytest.mark.slow  # nine 8 s runs of the 19-DOF model (≈ 10 s on one core)
 
 
 @pytest.fixture(scope="module")
@@ -110,36 +111,100 @@ SIGNALS = {"xs": "sun.x", "ys": "sun.y", "us": "sun.u", "xr": "ring.x", "yr": "r
            "ur": "ring.u", "xc": "carrier.x", "yc": "carrier.y", "uc": "carrier.u",
            "xp": "planet1.zeta", "yp": "planet1.eta", "up": "planet1.u"}
 
+# Wang 2010 Tables 9-1 (sun crack), 9-4 (ring crack), 9-7 (planet-1 crack): grades of the 12
+# averaged signals, 1 = most detectable.
+SEED_GRADES = {
+    "sun_crack": dict(us=1, uc=1, xr=2, yr=2, ur=2, xs=3, ys=3, up=3, xc=4, yc=4, xp=4, yp=4),
+    "ring_crack": dict(us=1, uc=1, xr=2, yr=2, ur=2, xs=3, ys=3, xc=4, yc=4, xp=4, yp=4, up=4),
+    "planet_crack": dict(us=1, ur=1, uc=1, up=1, xr=2, yr=2, xp=3, yp=3, xs=3, ys=3, xc=4,
+                         yc=4),
+}
 
-def _ranking(runs, case: str) -> list[str]:
-    """Signals ordered by fault visibility: peak-to-peak of the fault-induced change over the
-    peak-to-peak of the healthy signal (both linearly detrended, t > 2 s)."""
+
+def _seed_signals(ds) -> dict[str, np.ndarray]:
+    """The thesis's 12 signals (§3.4, §8.2): velocities of the sun, ring and carrier x, y in the
+    fixed frame, planet 1's x*, y* about the sun centre (orbit r_c included, Fig 8-20), and the
+    torsional rates (m/s)."""
+    t = ds.time.values
+    th = ds.q.sel(dof="carrier.u").values / R_C
+    c, s = np.cos(th), np.sin(th)
+    out = {}
+    for body, k in (("sun", "s"), ("ring", "r"), ("carrier", "c")):
+        x, y = ds.q.sel(dof=f"{body}.x").values, ds.q.sel(dof=f"{body}.y").values
+        out["x" + k] = np.gradient(x * c - y * s, t)
+        out["y" + k] = np.gradient(x * s + y * c, t)
+    rad = R_C + ds.q.sel(dof="planet1.zeta").values
+    eta = ds.q.sel(dof="planet1.eta").values
+    out["xp"] = np.gradient(rad * c - eta * s, t)
+    out["yp"] = np.gradient(rad * s + eta * c, t)
+    for k in ("us", "ur", "uc", "up"):
+        out[k] = ds.v.sel(dof=SIGNALS[k]).values
+    return out
+
+
+def _ranking(runs, case: str, t0: float = 2.0) -> tuple[list[str], dict[str, float]]:
+    """Signals ordered by fault visibility: peak to peak of the fault-induced change over the
+    peak to peak of the healthy signal, both against the carrier angle (mesh cycles: the
+    thesis's "shaft position", so that the two runs are compared at the same gear position)
+    and linearly detrended, from t0 on."""
     _, h = runs["healthy"]
     _, c = runs[case]
-    sel = h.time.values > 2.0
+    xh, xc = mesh_cycles(h), mesh_cycles(c)
+    lo = max(np.interp(t0, h.time.values, xh), np.interp(t0, c.time.values, xc))
+    grid = np.linspace(lo, min(xh[-1], xc[-1]), 20000)
+    sh, sc = _seed_signals(h), _seed_signals(c)
     score = {}
-    for key, dof in SIGNALS.items():
-        vh = h.v.sel(dof=dof).values[sel]
-        vc = c.v.sel(dof=dof).values[sel]
-        score[key] = np.ptp(detrend(vc - vh)) / np.ptp(detrend(vh))
-    return sorted(score, key=lambda k: -score[k])
+    for k in SIGNALS:
+        a = np.interp(grid, xh, sh[k])
+        b = np.interp(grid, xc, sc[k])
+        score[k] = float(np.ptp(detrend(b - a)) / np.ptp(detrend(a)))
+    return sorted(score, key=lambda k: -score[k]), score
 
 
-@pytest.mark.parametrize("case", ["sun_crack", "planet_crack"])
-def test_torsional_signals_rank_first(runs, case):
-    """Table 9-16 conclusion: torsional signals are superior to transverse ones. The three most
-    sensitive signals are torsional (us, ur, up in some order) for sun and planet cracks."""
-    assert set(_ranking(runs, case)[:3]) == {"us", "ur", "up"}
+def _seed_model(d: dict) -> None:
+    """The thesis's crack runs (ch. 9 case 2): carrier arm + bucket wheel + 12 buckets as one
+    body (Table 6-4 / eqs 6.8-6.13: 26 431 kg, 92 926 kg·m², checked in
+    test_seed004_gear_side.py), before loading; planet-bearing dampers c_px = c_py = 1e10 N·s/m
+    (Table 7-1 and the thesis code; AN31 prints 1e4, which changes nothing here)."""
+    st = d["planetary_dynamics"]["stages"][0]
+    st["carrier"]["mass_kg"], st["carrier"]["inertia_kgm2"] = 26431.0, 92926.0
+    st["planet_bearing_damping_ns_per_m"] = 1e10
 
 
-def test_ranking_pinned(runs):
-    # regression guard (no source value): Tables 9-1…9-16 grade averaged signals, spectra and
-    # CWT maps by eye ("good order", "chaos") on fixed-frame planet coordinates with the
-    # thesis's noise; the carrier torsional signal uc ranks first there. With our metric on
-    # noise-free runs it does not; pinned: the five most sensitive signals of our model and the
-    # place of uc (1-based).
-    for case, top5, uc_place in (("sun_crack", ["us", "up", "ur", "yp", "xp"], 12),
-                                 ("planet_crack", ["ur", "us", "up", "yp", "xp"], 7)):
-        rank = _ranking(runs, case)
-        assert rank[:5] == top5
-        assert rank.index("uc") + 1 == uc_place
+@pytest.fixture(scope="module")
+def seed_runs():
+    cases = {
+        "healthy": [],
+        "sun_crack": [{"kind": "crack", "gear": "sun", "crack_fraction": 0.4}],
+        "ring_crack": [{"kind": "crack", "gear": "ring", "crack_fraction": 0.4}],
+        "planet_crack": [{"kind": "crack", "gear": "planet", "crack_fraction": 0.4}],
+    }
+    return {k: run(f, T_END, edit=_seed_model) for k, f in cases.items()}
+
+
+@pytest.mark.parametrize("case", ["sun_crack", "ring_crack", "planet_crack"])
+def test_table_9_16_carrier_torsional_signal_first(seed_runs, case):
+    """Tables 9-1/9-4/9-7 and 9-16: the carrier torsional signal uc is in the first grade for
+    every crack (tied with us for sun and ring cracks, so the grades do not separate the two:
+    uc must be in our top 2), and the twelve signals' order agrees with the thesis's grades
+    beyond chance: Kendall τ-b of our scores against the grades, one-sided p < 0.01 under a
+    random order (the threshold is the test's significance level, not a fitted number)."""
+    rank, score = _ranking(seed_runs, case)
+    assert rank.index("uc") < 2, rank
+    keys = list(SIGNALS)
+    tau, p = kendalltau([-score[k] for k in keys], [SEED_GRADES[case][k] for k in keys],
+                        alternative="greater")
+    assert p < 0.01, (tau, p, rank)
+    # planet x*, y* carry the orbit (0.26 m/s): the last two, as in Fig 8-23 / Table 9-2 "chaos"
+    assert set(rank[-2:]) == {"xp", "yp"}
+
+
+def test_default_model_ranks_carrier_signal_low_regression_guard(runs):
+    # regression guard (no source value): with the example's defaults (carrier arm only, no
+    # planet-bearing damper) the carrier rotation is isolated from the mesh forces by the
+    # planet bearings (a 26 Hz carrier-on-bearings mode), so uc is not among the most
+    # sensitive signals (measured: 10th of 12 for the sun crack, 7th for the planet crack);
+    # the thesis's ranking needs its Table 7-1 c_px = 1e10 (test above, docs/validation.md).
+    for case in ("sun_crack", "planet_crack"):
+        rank, _ = _ranking(runs, case)
+        assert rank.index("uc") >= 5, rank

@@ -649,6 +649,7 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
                             cdamp, sim.contact_loss, ring_phase, mass_sched,
                             sim.modal_damping_ratio, sim.gyroscopic)
     sys.springs.backlash = mesh_backlash(pd, model, idx)
+    _planet_bearing_dampers(pd, model, sys)
     q0 = np.zeros(n)
     v0 = rigid_velocity(model, sim.initial_speed_rpm)
     # planet pin errors: offsets on the tangential planet-bearing springs, as a force
@@ -661,6 +662,21 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
                 j = [k for k, s in enumerate(model.springs) if s.name == name][0]
                 sys.force[:, :] -= model.springs[j].k * (-e) * a[j]
     return Prepared(model, sys, idx, q0, v0, t_end)
+
+
+def _planet_bearing_dampers(pd: PlanetaryDynamics, model: PlanetaryModel,
+                            sys: LinearSystem) -> None:
+    """Add c a aᵀ to the damping matrix for every planet-bearing spring (radial and
+    tangential) of a stage with ``planet_bearing_damping_ns_per_m`` = c > 0: a viscous damper
+    on the planet–carrier relative motion (Wang 2010 eqs 3.35-3.40, c_px and c_py)."""
+    a = model.spring_vectors()
+    for sd in pd.stages:
+        c = sd.planet_bearing_damping_ns_per_m
+        if c <= 0:
+            continue
+        for i, s in enumerate(model.springs):
+            if s.kind == "planet_bearing" and s.stage == sd.stage:
+                sys.C += c * np.outer(a[i], a[i])
 
 
 def mesh_backlash(pd: PlanetaryDynamics, model: PlanetaryModel, idx: list[int]) -> np.ndarray:
