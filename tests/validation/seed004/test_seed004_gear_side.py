@@ -50,11 +50,16 @@ def test_table_6_4_gears_carrier_wheel_buckets_ore() -> None:
 
 
 @pytest.mark.parametrize("which,z", [("sun", 19), ("ring", 83)])
-def test_combined_transmission_error_scale_10_um(which: str, z: int) -> None:
-    """Figs 4-18/4-19, finding 19 ("combined transmission error on a scale of 10 µm"): pitch
-    errors of the gear and the planet (eq 4.1, three harmonics each) plus the largest profile
-    error of the pairs in contact (§4.3) over a full gear × planet period: the peak |e| lies in
-    5-15 µm and within the eq 4.1 bound Σ|a| (gear + planet + profile = 13.5 µm)."""
+def test_combined_transmission_error_input_check(which: str, z: int) -> None:
+    """Input check, not a reproduced result: "combined transmission error is on a scale of
+    10 µm" is Assumption 19 of Table 8-1, an input of the thesis's dynamic model, and our
+    error table is built from the thesis code's coefficients (notes §2.7), so this only checks
+    the assembly of eq 4.1 + §4.3 (pitch errors of gear and planet, three harmonics each, plus
+    the largest profile error of the pairs in contact) over a full gear × planet period: the
+    peak |e| lies within the eq 4.1 bound Σ|a| (gear + planet + profile = 13.5 µm), near the
+    stated 10 µm scale (5-15 µm), and the table repeats after lcm(z, z_p) mesh cycles. The
+    thesis's outputs about the error (§8.3, case 3 vs case 2) are not reproduced
+    (docs/validation.md)."""
     eps = seed004_params(which).contact_ratio
     x = np.linspace(0.0, 32 * z, 200_000, endpoint=False)
     e = _seed004_errors(which, x, z, 32, eps)
