@@ -7,6 +7,7 @@ import numpy as np
 
 sys.path.append("tests")
 from seed004_fluct import RPM, edit  # noqa: E402
+
 from validation.seed004._reclaimer import R_C, run  # noqa: E402
 
 if __name__ == "__main__":
@@ -16,7 +17,8 @@ if __name__ == "__main__":
     _, ds = run([], t_end, edit=edit(1, beta, rest=rest))
     t = ds.time.values
     rpm = ds.v.sel(dof="carrier.u").values / R_C * RPM
-    for a, b in [(0, .1), (.1, .2), (.2, .3), (.3, .5), (.5, 1), (1, 1.5), (1.5, 2), (2, 3), (3, 4)]:
+    edges = [0, .1, .2, .3, .5, 1, 1.5, 2, 3, 4]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
         s = (t >= a) & (t < b)
         if s.any():
             print(f"{a:.1f}-{b:.1f} s: mean {rpm[s].mean():.3f} p2p {np.ptp(rpm[s]):.4f}")

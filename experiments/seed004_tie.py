@@ -20,7 +20,7 @@ from validation.seed004._reclaimer import DT, SAVE, raw  # noqa: E402
 
 def tie_vector(model):
     info = model.stages["planetary"]
-    rc, rrb, rpb = info.r_carrier, info.r_ring, info.r_planet
+    rc, rrb = info.r_carrier, info.r_ring
     out = []
     for k in (1, 2, 3):
         g = np.zeros(len(model.names))
@@ -31,13 +31,15 @@ def tie_vector(model):
     return out
 
 
-def run(faults, t_end, kpx=0.0, cpx=0.0, symmetric=False, carrier_j=None, cpb=0.0):
+def run(faults, t_end, kpx=0.0, cpx=0.0, symmetric=False, carrier_j=None, cpb=0.0, edit=None):
     d = copy.deepcopy(raw())
     st = d["planetary_dynamics"]["stages"][0]
     st["faults"] = faults
     st["transmission_error"] = False
     if carrier_j is not None:
         st["carrier"]["inertia_kgm2"], st["carrier"]["mass_kg"] = carrier_j
+    if edit is not None:
+        edit(d)
     p = prepare(parse_config(d), t_end_s=t_end)
     m, s = p.model, p.system
     uc = m.dof("carrier.u")

@@ -103,3 +103,54 @@ def test_fault_signature_counts(raw, healthy, fault, per_rev):
     assert len(starts) >= 3
     spacing_deg = np.median(np.diff(starts)) * 360 / spr
     assert 360 / spacing_deg == pytest.approx(per_rev, rel=0.02)
+
+
+def _prepared(raw, edit):
+    from geardyn.models.planetary.build import rigid_velocity
+
+    d = copy.deepcopy(raw)
+    d["planetary_dynamics"]["stages"][0]["faults"] = []
+    edit(d)
+    p = prepare(parse_config(d), t_end_s=0.01)
+    return p, rigid_velocity(p.model, {"sun": 32.4263})
+
+
+def test_planet_bearing_damper_is_relative_and_per_bearing(raw):
+    """``planet_bearing_damping_ns_per_m`` (Wang 2010 Table 7-1 c_px, c_py) adds c a aᵀ for
+    each of the 2N planet-bearing springs (deflection δ = aᵀq, seed 003 eq 3.10 layout): the
+    change of C is c Σ a aᵀ exactly, a damper of c on each bearing's own relative motion, and
+    it does not act on the rigid-body rotation."""
+    c = 1e6
+
+    def with_c(d):
+        d["planetary_dynamics"]["stages"][0]["planet_bearing_damping_ns_per_m"] = c
+
+    p0, v = _prepared(raw, lambda d: None)
+    p1, _ = _prepared(raw, with_c)
+    a = p0.model.spring_vectors()
+    rows = [a[i] for i, s in enumerate(p0.model.springs) if s.kind == "planet_bearing"]
+    assert len(rows) == 6
+    dc = p1.system.C - p0.system.C
+    np.testing.assert_allclose(dc, c * sum(np.outer(r, r) for r in rows), rtol=0, atol=1e-9 * c)
+    assert np.abs(dc @ v).max() < 1e-9 * c * np.abs(v).max()
+    # one bearing's relative velocity of 1 m/s (planet 1 radial, carrier at rest) → force c
+    j = p0.model.dof("planet1.zeta")
+    e = np.zeros(len(p0.model.names))
+    e[j] = 1.0
+    assert dc[j] @ e == pytest.approx(c)
+
+
+def test_planet_bearing_damping_bad_input_names_the_field(tmp_path):
+    from geardyn.config import load_config
+    from geardyn.errors import ConfigError
+
+    text = (EX / "planetary_reclaimer.toml").read_text()
+    for val, word in (("-1.0", "greater than or equal to 0"), ("nan", "finite")):
+        bad = tmp_path / "bad.toml"
+        bad.write_text(text.replace("planet_bearing_n_per_m = 1e8",
+                                    f"planet_bearing_n_per_m = 1e8\n"
+                                    f"planet_bearing_damping_ns_per_m = {val}", 1))
+        with pytest.raises(ConfigError) as err:
+            load_config(bad)
+        assert "planet_bearing_damping_ns_per_m" in str(err.value)
+        assert word in str(err.value)

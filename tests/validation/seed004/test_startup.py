@@ -122,17 +122,29 @@ def test_case1_fluctuation_vanishes_with_table_7_1_bearing_damping():
     assert np.ptp(rpm[t > 1.0]) < 1.6e-3
 
 
+def _rated(case: int, cpb: float = 0.0):
+    def edit(d: dict) -> None:
+        _edit(1, True, "rated", cpb)(d)
+        if case == 2:  # carrier arm + bucket wheel + buckets, Table 6-4 (before loading)
+            st = d["planetary_dynamics"]["stages"][0]
+            st["carrier"]["mass_kg"], st["carrier"]["inertia_kgm2"] = 26431.0, 92926.0
+    return edit
+
+
 @pytest.mark.slow
-def test_case2_fluctuation_smaller_than_case1():
-    """Case 2 (bucket wheel) fluctuates less than case 1 at steady state (both unloaded case
-    1 / scheduled case 2, from the nominal speed, 2-3 s), the direction of §8.3. The thesis's
-    factor 10 is not reproduced; regression guard (no source value): our ratio 3.6 (to 25 %),
-    a ratio of the residue of the case 1 carrier-mode ringing (test above) to the case 2 mesh
-    response, not a property the thesis's number can be compared with."""
+def test_case2_fluctuation_ten_times_smaller_than_case1():
+    """§8.3: "The signal fluctuation range is reduced by a factor of 10 times when the large mass
+    and inertia (bucket wheel) is included as for case-2" — both cases under the same (rated)
+    load from rest, carrier speed peak to peak at 2-3 s. Tolerance: "10" is one significant
+    digit, so [5, 15). Measured 9.7 (0.0028 / 0.0003 rpm). With the Table 7-1 planet-bearing
+    damper (c_px = 1e10, needed for the ch. 9 ranking) the ratio is 4.2 (0.12 / 0.027 rpm): the
+    pinned planets make the carrier follow the mesh deflections, no longer inertia-limited —
+    the thesis's two results do not fit one c_px in our model (docs/validation.md). The
+    magnitude (≈ 1 rpm) is not reproduced (regression guard: 0.0028 rpm ± 25 %)."""
     p2p = []
     for case in (1, 2):
-        _, ds = run([], 3.0, edit=_edit(case, False))
+        _, ds = run([], 3.0, edit=_rated(case))
         t, rpm = _carrier_rpm(ds)
         p2p.append(np.ptp(rpm[t > 2.0]))
-    assert p2p[1] < p2p[0]
-    assert p2p[0] / p2p[1] == pytest.approx(3.6, rel=0.25)
+    assert 5.0 <= p2p[0] / p2p[1] < 15.0
+    assert p2p[0] == pytest.approx(0.0028, rel=0.25)
