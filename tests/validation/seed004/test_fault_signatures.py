@@ -15,7 +15,7 @@ from ._reclaimer import R_C, ZP, ZR, ZS, mesh_cycles, run
 
 T_END = 8.0  # s ≈ 67 mesh cycles, 2 planet revolutions relative to the carrier
 
-pytestmark = pytest.mark.slow  # nine 8 s runs of the 19-DOF model (≈ 10 s on one core)
+pytestmark = pytest.mark.slow  # twelve 8 s runs of the 19-DOF model (≈ 12 s on one core)
 
 
 @pytest.fixture(scope="module")
@@ -173,23 +173,26 @@ def _seed_model(d: dict) -> None:
 
 @pytest.fixture(scope="module")
 def seed_runs():
-    cases = {
-        "healthy": [],
-        "sun_crack": [{"kind": "crack", "gear": "sun", "crack_fraction": 0.4}],
-        "ring_crack": [{"kind": "crack", "gear": "ring", "crack_fraction": 0.4}],
-        "planet_crack": [{"kind": "crack", "gear": "planet", "crack_fraction": 0.4}],
-    }
-    return {k: run(f, T_END, edit=_seed_model) for k, f in cases.items()}
+    out = {"healthy": run([], T_END, edit=_seed_model)}
+    for size in (0.05, 0.4):  # the thesis's smallest crack (Table 9-16 "5 %") and a middle one
+        for gear in ("sun", "ring", "planet"):
+            out[f"{gear}_crack", size] = run(
+                [{"kind": "crack", "gear": gear, "crack_fraction": size}], T_END,
+                edit=_seed_model)
+    return out
 
 
+@pytest.mark.parametrize("size", [0.05, 0.4])
 @pytest.mark.parametrize("case", ["sun_crack", "ring_crack", "planet_crack"])
-def test_table_9_16_carrier_torsional_signal_first(seed_runs, case):
+def test_table_9_16_carrier_torsional_signal_first(seed_runs, case, size):
     """Tables 9-1/9-4/9-7 and 9-16: the carrier torsional signal uc is in the first grade for
     every crack (tied with us for sun and ring cracks, so the grades do not separate the two:
     uc must be in our top 2), and the twelve signals' order agrees with the thesis's grades
     beyond chance: Kendall τ-b of our scores against the grades, one-sided p < 0.01 under a
-    random order (the threshold is the test's significance level, not a fitted number)."""
-    rank, score = _ranking(seed_runs, case)
+    random order (the threshold is the test's significance level, not a fitted number).
+    Measured: uc 1st for all at 5 %; at 40 % 2nd (sun, after ur by 5 %), 1st, 1st; τ 0.61-0.74."""
+    runs = {"healthy": seed_runs["healthy"], case: seed_runs[case, size]}
+    rank, score = _ranking(runs, case)
     assert rank.index("uc") < 2, rank
     keys = list(SIGNALS)
     tau, p = kendalltau([-score[k] for k in keys], [SEED_GRADES[case][k] for k in keys],
