@@ -10,9 +10,8 @@ import sys
 import numpy as np
 
 sys.path.append("tests")
-from validation.seed004._reclaimer import R_C, run  # noqa: E402
-
 from geardyn.operating import BucketWheelSchedule  # noqa: E402
+from validation.seed004._reclaimer import R_C, run  # noqa: E402
 
 RPM = 60 / (2 * np.pi)
 
