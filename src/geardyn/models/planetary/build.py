@@ -653,7 +653,14 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
     q0 = np.zeros(n)
     v0 = rigid_velocity(model, sim.initial_speed_rpm)
     # planet pin errors: offsets on the tangential planet-bearing springs, as a force
-    for sd in pd.stages:
+    for k_st, sd in enumerate(pd.stages):
+        if sd.pin_errors_m and model.reduction == "torsional" and any(sd.pin_errors_m):
+            # the bearing spring's deflection is identically zero with rigid planet bearings
+            # (η = u_c), so the offset below would be silently lost
+            raise ConfigError(
+                f"planetary_dynamics.stages[{k_st}].pin_errors_m: needs the planet bearing "
+                "DOFs (reduction = 'none' or 'transverse'); the torsional reduction has rigid "
+                "planet bearings, on which a pin position error has no effect")
         if sd.pin_errors_m:
             info = model.stages[sd.stage]
             a = model.spring_vectors()
