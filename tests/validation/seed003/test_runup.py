@@ -1,19 +1,21 @@
 """Seed 003 run-up (ch. 4 §5, Figs 4.21-4.30) and load sharing during run-up (ch. 5 §2.2,
-Figs 5.10-5.13), 36-DOF bench (Model A; notes §4.2: the torsional 12-DOF model has neither the
-25 Hz nor the 144 Hz mode), motor speed ramp imposed by the speed control.
+Figs 5.10-5.13): 36-DOF bench (Model A) and 12-DOF Model B with the test-ring support in
+Table 3.1's printed unit (docs/validation.md, Hammami 2015 section); motor speed ramp imposed by
+the speed control.
 
-Thesis: the simulated run-up STFT shows inclined lines (mesh harmonics) and vertical lines at the
-excited natural frequencies 25 Hz and 144 Hz; the LSR fluctuation period shrinks during run-up;
-measured: LSR of planet 1 grows and of planet 2 drops with speed (pin errors 60/10/−60 µm).
+Thesis: the STFT of the simulated test-carrier acceleration during run-up (Figs 4.28-4.29,
+torsional Model B) shows vertical lines at the natural frequencies 25 Hz and 144 Hz; the LSR
+fluctuation period shrinks during run-up; measured: LSR of planet 1 grows and of planet 2 drops
+with speed (pin errors 60/10/−60 µm).
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.signal import find_peaks, stft
+from scipy.signal import stft
 
-from ._bench import f_mesh, raw, run
+from ._bench import f_mesh, raw, run, table_units
 
 RPM0, RPM1, T_UP = 100.0, 1498.5, 1.0
 DT = 5e-5
@@ -33,32 +35,51 @@ def runup():
     return run(_ramp(raw("planetary_bench_36dof.toml"), RPM0, RPM1, T_UP), T_UP, DT)
 
 
-def _vertical_lines(ds, dof: str) -> tuple[np.ndarray, np.ndarray]:
-    """STFT (Hann, 0.2 s, 75 % overlap) of the DOF's acceleration; per frequency bin, the
-    fraction of frames in which it is a spectral peak (≥ 5 % of the frame maximum)."""
+def _line(ds, dof: str, f0: float) -> tuple[float, float]:
+    """STFT (Hann, 0.2 s, 75 % overlap) of the DOF's acceleration; per frame, the largest bin
+    within one bin of ``f0`` over the median of the bins 3 bins to 40 Hz away. Returns (median
+    ratio over frames, share of frames with ratio > 10). A line drawn in a colour map stands
+    out by orders of magnitude in these runs (measured 150-900 where present, ≤ 1.3 where
+    absent), so the verdict does not hang on the 10."""
     acc = np.gradient(ds.v.sel(dof=dof).values, DT)
     f, _, z = stft(acc, fs=1 / DT, nperseg=4096, noverlap=3072)
     a = np.abs(z)
-    hits = np.zeros(f.size)
-    for j in range(a.shape[1]):
-        pk, _ = find_peaks(a[:, j], prominence=0.05 * a[:, j].max())
-        hits[pk] += 1
-    return f, hits / a.shape[1]
+    i = int(np.argmin(np.abs(f - f0)))
+    near = (np.abs(f - f0) > 3 * (f[1] - f[0])) & (np.abs(f - f0) < 40.0)
+    ratio = a[i - 1 : i + 2].max(0) / np.median(a[near], axis=0)
+    return float(np.median(ratio)), float(np.mean(ratio > 10.0))
 
 
-@pytest.mark.parametrize(("dof", "thesis_hz", "model_hz", "tol"),
-                         [("test.ring.u", 25.0, 26.87, 0.10), ("test.ring.x", 144.0, 139.96, 0.05)])
-def test_stft_vertical_lines(runup, dof, thesis_hz, model_hz, tol):
-    """A frequency that stays a spectral peak in ≥ 70 % of the frames (a vertical STFT line)
-    lies within ``tol`` of the thesis's 25/144 Hz and within one STFT bin (4.9 Hz) of our modal
-    frequency (26.87 Hz reaction-ring rotation, 139.96 Hz ring translation, test_modal_low_band);
-    the inclined mesh lines sweep through and are a peak in few frames only."""
+@pytest.fixture(scope="module")
+def runup_model_b():
+    """The thesis's run-up model (torsional Model B, ch. 4 §2) with the test-ring support in
+    Table 3.1's printed unit (test_model_b_ring_support.py)."""
+    return run(table_units(_ramp(raw("planetary_bench_12dof.toml"), RPM0, RPM1, T_UP)), T_UP, DT)
+
+
+def test_fig_4_29_carrier_line_144_hz(runup_model_b):
+    """Figs 4.28-4.29: the STFT of the simulated test-carrier acceleration shows 144 Hz as a
+    vertical line. Model B with the printed support unit: a line within one STFT bin (4.9 Hz;
+    the thesis gives no STFT settings) of 144 Hz in ≥ 70 % of the frames — the rings winding
+    the loop in opposition (143.1 Hz in eqs 4.2-4.6, 146.3 Hz in ours with the speed control),
+    a torsional mode the carrier takes part in. Its 43.4 Hz companion (impact test 41 Hz)
+    dominates the carrier; the thesis's 25 Hz is no mode of Model B (not reproduced)."""
+    _, _, ds = runup_model_b
+    level, share = _line(ds, "test.carrier.u", 144.0)
+    assert share >= 0.7, (level, share)
+    assert _line(ds, "test.carrier.u", 44.0)[1] >= 0.7
+
+
+def test_model_a_lines_on_the_carrier(runup):
+    """Model A (36-DOF, our reading of the support) during the same run-up: the loop mode
+    through the soft planet bearings (26.87 Hz, reaction ring turning) is a line on the test
+    carrier within one bin of the thesis's 25 Hz; its 139.96 Hz mode (ring translation, the
+    former "144 Hz" match) is translational, so by the planets' symmetry it has no carrier
+    rotation and no line on the carrier — the thesis's 144 Hz carrier line is not this mode."""
     _, _, ds = runup
-    f, share = _vertical_lines(ds, dof)
-    near = np.abs(f - thesis_hz) <= tol * thesis_hz
-    assert share[near].max() >= 0.7
-    line = f[near][np.argmax(share[near])]
-    assert line == pytest.approx(model_hz, abs=f[1] - f[0])
+    assert _line(ds, "test.carrier.u", 25.0)[1] >= 0.7
+    level, share = _line(ds, "test.carrier.u", 144.0)
+    assert share == 0.0 and level < 3.0
 
 
 LSR_RPM0, LSR_RPM1, LSR_T, LSR_DT = 100.0, 500.0, 1.0, 1e-4
