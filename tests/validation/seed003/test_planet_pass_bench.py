@@ -147,6 +147,7 @@ def test_carrier_spectrum_mesh_line(bench_100):
     amp = _orders(ds, "test.carrier.u", orders)
     assert amp[2] > 10 * max(amp[0], amp[1])
     # regression guard (no source value): the thesis says the largest carrier response near
-    # f_m is right on f_m (65 f_c, measured with a 4.86 Hz misalignment line we do not model);
-    # pinned: ratio of our f_m line to the 3 f_m line.
+    # f_m is right on f_m (65 f_c). A symmetric, sequentially phased model cancels f_m on the
+    # carrier exactly; with the thesis's pin errors it becomes the largest line
+    # (test_carrier_fm.py). Pinned: ratio of our (leakage-level) f_m line to the 3 f_m line.
     assert amp[0] / amp[2] == pytest.approx(0.0117, rel=0.25)

@@ -65,8 +65,10 @@ def stationary_run():
 @pytest.mark.parametrize("stage", ["reaction", "test"])
 def test_mean_dynamic_ring_mesh_force_equals_torque_balance(stationary_run, stage):
     """Over one carrier period the ring is at rest on average, so Σ_n F_rn · r_br = 100 N·m for
-    both sets of the back-to-back loop (notes §4.5), and each planet carries 1/3 of it with
-    sequential phasing: 267.3 N (±0.5 %)."""
+    both sets of the back-to-back loop (notes §4.5; the torque balance is the check). Each
+    planet's third, 267.3 N (±0.5 %), is an invariant of three identical, equally spaced
+    planets, not a test of a seed result (unequal sharing from the thesis's pin errors:
+    test_runup.py, tests/planetary/test_static.py)."""
     _, p, ds = stationary_run
     sel = ds.sel(time=slice(0.2, None))
     r_br = p.model.body(f"{stage}.ring").radius
