@@ -12,6 +12,7 @@ from scipy.ndimage import median_filter
 
 from geardyn.config import load_config
 from geardyn.config.gears import pair_model
+from geardyn.config.loader import parse_config
 from geardyn.gears.faults import Crack
 from geardyn.gears.pe_stiffness import mesh_stiffness
 from geardyn.models.transmission.assembly import build_model
@@ -65,16 +66,83 @@ def test_fig17_deeper_crack_raises_integer_orders_as_the_stiffness_loss() -> Non
     assert np.median(_gains("crack15", "healthy", range(4, 38))) > 2.0
 
 
+def _induced(case: str, orders: np.ndarray) -> np.ndarray:
+    """Fault-induced amplitude |X_fault(k) − X_healthy(k)| (rad/s) at integer orders k of the
+    detrended low-speed shaft IAS (Hann window, same record length): the healthy content
+    (mesh orders, ramp residue) cancels, only the once-per-revolution family is left."""
+    x, h = detrended(case), detrended("healthy")
+    w = np.hanning(x.size)
+    d = np.abs(np.fft.rfft(x * w) - np.fft.rfft(h * w)) * 2 / w.sum()
+    idx = np.round(orders * x.size / PPR).astype(int)
+    return np.array([d[i - 1 : i + 2].max() for i in idx])
+
+
+def _static_pulse(case: str, orders: np.ndarray) -> np.ndarray:
+    """Independent quasi-static reference: |Fourier coefficient| at shaft order k of the static
+    transmission error change ΔSTE = F/k_fault − F/k_healthy of the low stage's PE mesh
+    stiffness over one wheel revolution (F from 100 N·m on the output)."""
+    from ._runs import _variant
+
+    g = pair_model(load_config(EXAMPLE), "low").geometry
+    npc = 64
+    tabs = {}
+    for c in ("healthy", case):
+        pm = pair_model(parse_config(_variant(c)), "low")
+        tabs[c] = mesh_stiffness(g, n_per_cycle=npc, n_cycles=None, faults=pm.faults).total
+    f = 100.0 / g.base_radius[1]
+    d = f / tabs[case] - f / tabs["healthy"]
+    per_rev = g.b.teeth * npc
+    d = d[: (d.size // per_rev) * per_rev].reshape(-1, per_rev).mean(0)
+    return np.abs(np.fft.rfft(d)[orders]) / per_rev
+
+
 def test_fig18_crack_harmonics_sink_faster_than_spall() -> None:
-    """Fig 18: both damages raise the integer orders; the crack's peaks sink into the floor at
-    the highest harmonics sooner than the spall's (shorter spall event, Fig 20). Orders 38-54:
-    the spall stays × > 2 above healthy on most, the deep crack on few."""
-    high = [k for k in range(38, 55)]
-    spall = _gains("gear_spall", "healthy", high)
-    crack = _gains("crack25", "healthy", high)
-    assert np.mean(spall > 2.0) >= 0.7
-    assert np.mean(crack > 2.0) <= 0.2
-    assert np.median(_gains("gear_spall", "healthy", range(4, 38))) > 2.0
+    """Fig 18: "the peaks associated to the crack sink a bit faster into the base noise level …
+    for the highest harmonics … the duration of the effect of the crack is of the same order as
+    the tooth mesh period, whereas it is shorter for the (modelled) spall". Tested on the ratio
+    R(k) of the spall's to the deep crack's fault-induced amplitudes (the system's response,
+    common to both, cancels): R rises from orders 4-19 to 38-54, i.e. the crack sinks faster,
+    and the rise equals that of the quasi-static ΔSTE pulses (crack 1.61 mesh cycles long,
+    spall 0.97) — measured 3.06 against 2.77. The magnitude R ≈ 8 (not "very similar": the
+    seed's own Fig 19b finds the spall "more energetic") also equals the quasi-static one: a
+    half-face spall removes half of the single pair's stiffness, the 25 % crack 9.4 %.
+    Tolerance: 3 standard errors of the band medians of log(R/R_static), from their
+    order-to-order scatter (statistics, not chosen)."""
+    orders = np.arange(4, 55)
+    r = _induced("gear_spall", orders) / _induced("crack25", orders)
+    r_static = _static_pulse("gear_spall", orders) / _static_pulse("crack25", orders)
+    log_dev = np.log(r / r_static)
+    lo, hi, mid = orders < 20, orders >= 38, orders < 38
+
+    def se(x: np.ndarray) -> float:  # standard error of a median
+        return 1.2533 * x.std(ddof=1) / np.sqrt(x.size)
+
+    rise = np.median(r[hi]) / np.median(r[lo])
+    rise_static = np.median(r_static[hi]) / np.median(r_static[lo])
+    assert rise > 1.5 and rise_static > 1.5  # the crack sinks faster
+    tol = 3 * np.hypot(se(log_dev[lo]), se(log_dev[hi]))
+    assert abs(np.log(rise / rise_static)) < tol
+    assert abs(np.median(log_dev[mid])) < 3 * se(log_dev[mid])  # magnitude, orders 4-37
+    assert np.median(_gains("crack25", "healthy", range(4, 38))) > 2.0  # both raise the
+    assert np.median(_gains("gear_spall", "healthy", range(4, 38))) > 2.0  # integer orders
+
+
+def test_half_face_spall_halves_the_single_pair_stiffness() -> None:
+    """Closed form behind the magnitude: in single-pair contact on the spall (100 µm deep, far
+    beyond the ≈ 4 µm mesh deflection, eq 13) the spalled half of the face carries nothing, so
+    the mesh stiffness drops by exactly half; the deep crack's largest loss is 9.4 %."""
+    from ._runs import _variant
+
+    g = pair_model(load_config(EXAMPLE), "low").geometry
+    h = mesh_stiffness(g, n_per_cycle=64, n_cycles=None).total
+    loss = {}
+    for c in ("gear_spall", "crack25"):
+        pm = pair_model(parse_config(_variant(c)), "low")
+        loss[c] = float(np.max(1 - mesh_stiffness(g, n_per_cycle=64, n_cycles=None,
+                                                  faults=pm.faults).total / h))
+    assert loss["gear_spall"] == pytest.approx(0.5, abs=0.01)  # 24 slices: 12 lost
+    # regression guard (no source value): the Chen & Shao dead-zone crack of 25 % root chord
+    assert loss["crack25"] == pytest.approx(0.094, abs=0.005)
 
 
 def _rahmonic(case: str) -> float:
