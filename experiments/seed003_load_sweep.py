@@ -68,3 +68,15 @@ if __name__ == "__main__":
             rows.append(ring_numbers(run(config(torque, **kw), 0.1 + 3 * TC, DT)[2]))
         rms, a1, a2 = np.array(rows).T
         print(f"{name}:\n  rms {np.round(rms, 2)}\n  2fm/fm {np.round(a2 / a1, 2)}", flush=True)
+
+
+def arm_inertia(arm_m: float = 0.5, unit: str = "Nm/rad") -> None:
+    """Does the inertia of the masses hung on the arm (T = m g L → ΔI = m L² = T L / g on the
+    reaction ring; L not given, 0.5 m assumed) make the test-ring acceleration fall with load?"""
+    out = []
+    for torque in (100.0, 900.0):
+        d = config(torque, unit=unit)
+        st = d["planetary_dynamics"]["stages"][0]
+        st["ring"]["inertia_kgm2"] += torque * arm_m / 9.81
+        out.append(ring_numbers(run(d, 0.1 + 3 * TC, DT)[2])[0])
+    print(f"arm {arm_m} m, {unit}: RMS 100 → 900 N·m {out[0]:.2f} → {out[1]:.2f} m/s²")

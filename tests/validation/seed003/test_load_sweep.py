@@ -124,8 +124,9 @@ def test_amplitude_trend_pinned(sweep):
     # (Fig 4.16); ours grows in every variant tried (C_a 2.5-20 µm, no load law, no planet-pass
     # force, printed support unit; experiments/seed003_load_sweep.py): both excitations are
     # linear in the load (Δk·F/k̄ and the planet-pass force F_nj = static ring mesh force,
-    # eq 4.13), e.g. without the load law RMS 1.29 → 12.2 m/s² for 100 → 900 N·m. A fall needs
-    # the thesis's FE stiffness (Figs 4.14-4.15, figure-only) or the arm masses it names.
+    # eq 4.13), e.g. without the load law RMS 1.29 → 12.2 m/s² for 100 → 900 N·m; the arm
+    # masses' inertia (ΔI = T L/g, L = 0.5-2 m) does not reverse it. A fall needs the thesis's
+    # FE stiffness (Figs 4.14-4.15, figure-only).
     # Pinned: the 2f_m/f_m group ratio at 100, 300, 500, 700, 900 N·m (to 10 %).
     ratio = [sweep[t][2] / sweep[t][1] for t in sorted(sweep)]
     np.testing.assert_allclose(ratio, [0.82, 2.39, 3.54, 4.64, 5.26], rtol=0.1)
