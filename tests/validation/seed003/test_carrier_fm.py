@@ -6,7 +6,7 @@ torque on the carrier cancels at h·f_m unless h·Z_s is a multiple of N (Z_s = 
 3f_m; Parker 2000, "A physical explanation for the effectiveness of planet phasing"), so a
 symmetric model has no f_m line on the carrier at all. The bench is not symmetric: the thesis
 measures its pin-hole errors (ch. 5 §2.1.3: 60, 10, −60 µm tangential). With them (36-DOF
-Model A: the torsional reduction has rigid planet bearings and cannot carry pin errors) the
+Model A, the bearing a spring; Model B gives the same, experiments/seed003_carrier_fm.py) the
 planets' loads differ, their f_m forces no longer cancel, and f_m becomes the carrier's largest
 line near f_m. The planet-pass ring force of eq 4.13 is left out here: it models the moving
 transfer path to the ring accelerometer, and applied as a force it would put the ring's

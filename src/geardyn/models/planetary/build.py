@@ -653,21 +653,36 @@ def prepare(cfg: object, t_end_s: float | None = None) -> Prepared:
     q0 = np.zeros(n)
     v0 = rigid_velocity(model, sim.initial_speed_rpm)
     # planet pin errors: offsets on the tangential planet-bearing springs, as a force
-    for k_st, sd in enumerate(pd.stages):
-        if sd.pin_errors_m and model.reduction == "torsional" and any(sd.pin_errors_m):
-            # the bearing spring's deflection is identically zero with rigid planet bearings
-            # (η = u_c), so the offset below would be silently lost
-            raise ConfigError(
-                f"planetary_dynamics.stages[{k_st}].pin_errors_m: needs the planet bearing "
-                "DOFs (reduction = 'none' or 'transverse'); the torsional reduction has rigid "
-                "planet bearings, on which a pin position error has no effect")
+    for sd in pd.stages:
         if sd.pin_errors_m:
             info = model.stages[sd.stage]
             a = model.spring_vectors()
             for i, e in enumerate(sd.pin_errors_m):
-                name = f"{info.bodies[f'planet{i + 1}']}.bearing.eta"
+                planet = info.bodies[f"planet{i + 1}"]
+                name = f"{planet}.bearing.eta"
                 j = [k for k, s in enumerate(model.springs) if s.name == name][0]
-                sys.force[:, :] -= model.springs[j].k * (-e) * a[j]
+                if model.reduction != "torsional":
+                    sys.force[:, :] -= model.springs[j].k * (-e) * a[j]
+                    continue
+                # rigid planet bearings (η = u_c): the bearing spring never deflects, so the
+                # error reaches the meshes as an offset δ₀ = s·a·(−e ê_η) (planet centre at
+                # η = u_c − e, the bearing spring's unstressed state above), scaled by the
+                # static condensation of the bearing in series with the planet's meshes,
+                # s = k_b / (k_b + k_s cos²α_s + k_r cos²α_r), so that the pin force is
+                # F_e = K_eff e of seed 003 eqs 5.4-5.5 (s → 1 for rigid bearings)
+                mesh = [(m_i, sp) for m_i, sp in enumerate(model.springs)
+                        if sp.kind in ("mesh_sun", "mesh_ring") and sp.body == planet]
+                off = np.zeros(model.n_full)
+                off[model.dof_names.index(f"{planet}.eta")] = -e
+                k_t = sum(sp.k * (sp.a @ off / e) ** 2 for _, sp in mesh) if e else 0.0
+                k_b = model.springs[j].k
+                scale = k_b / (k_b + k_t) if k_b > 0 else 1.0
+                for m_i, sp in mesh:
+                    d0 = scale * float(sp.a @ off)
+                    if m_i in idx:
+                        sys.springs.etab[idx.index(m_i)] += d0
+                    else:  # constant mesh spring in K₀
+                        sys.force[:, :] -= sp.k * d0 * a[m_i]
     return Prepared(model, sys, idx, q0, v0, t_end)
 
 
