@@ -321,9 +321,10 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) ->
     def thresholds_of(base: list[int], keep: np.ndarray, k: float) -> pd.DataFrame | None:
         ck = (tuple(base), tuple(keep), k)
         if ck not in cache:
-            try:
-                cache[ck] = thresholds([table(j, keep) for j in base],
-                                       ThresholdRule(k=k, sigma_floor=floor))
+            tables = [table(j, keep) for j in base]
+            try:  # (thresholds of only empty tables: ValueError of pandas, not InputError)
+                cache[ck] = (thresholds(tables, ThresholdRule(k=k, sigma_floor=floor))
+                             if any(not t.empty for t in tables) else None)
             except InputError:  # nothing judgeable in the baseline
                 cache[ck] = None
         return cache[ck]
@@ -438,8 +439,10 @@ def short_case_notes(sweep: Sweep, most: int = 5) -> list[str]:
     components' revolutions, the rule and the run length that would judge them; the first
     ``most`` distinct case configs, then a count."""
     from geardyn.config.loader import parse_config
+    from geardyn.diagnosis.isolation import ROTATING
     from geardyn.diagnosis.pipeline import options
-    from geardyn.sweep.layout import _t_end, _where, short_cases
+    from geardyn.sweep.layout import _components as components
+    from geardyn.sweep.layout import _reference, _t_end, _where, short_cases
 
     short = short_cases(sweep, MIN_OWN_REVOLUTIONS)
     if not short:
@@ -454,13 +457,18 @@ def short_case_notes(sweep: Sweep, most: int = 5) -> list[str]:
     for sc in short[:most]:
         cfg = parse_config(sweep.case_config(sweep.cases[sc.index]))
         t_end = _t_end(sweep, cfg)
-        skip = options(cfg, skip_s=ind.skip_s).skip_s
+        o = options(cfg, channel=ind.channel, skip_s=ind.skip_s)
+        rotating = {n for n, k, r in components(cfg, _reference(cfg, o.channel, o.reference))
+                    if k in ROTATING and r > 0}
         slowest = min(sc.components.values())
-        need = (f"; {skip + (t_end - skip) * MIN_OWN_REVOLUTIONS / slowest:.3g} s would judge "
-                "them all (run.t_end_s)" if t_end is not None and slowest > 0 else "")
+        need = (f"; {o.skip_s + (t_end - o.skip_s) * MIN_OWN_REVOLUTIONS / slowest:.3g} s "
+                "would judge them all (run.t_end_s)" if t_end is not None and slowest > 0
+                else "")
+        none = (f" (no component judgeable: the case will be '{NOT_JUDGED}')"
+                if rotating <= set(sc.components) else "")
         out.append(f"{_where(sweep, sc.index)}: "
                    + ", ".join(f"{c} {r:.2g}" for c, r in sc.components.items())
-                   + f" revolutions{need}")
+                   + f" revolutions{none}{need}")
     if len(short) > most:
         out.append(f"… and {len(short) - most} more distinct case config(s)")
     return out
