@@ -411,6 +411,38 @@ def test_stated_probability_sets_the_thresholds(reference: Path, spec_path: Path
     assert (wide > narrow).all()
 
 
+def test_localised_verdict_stored(reference: Path, spec_path: Path,
+                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """What a localised detection stores (the short test runs give the sun shaft no usable
+    isolation evidence, so their detections end uncertain): localise is wrapped to localise
+    every detection to the sun shaft with posterior 0.97; the case is 'alarm' with its location,
+    level and confidence, no candidates (the localisation rule itself: tests/diagnosis)."""
+    import geardyn.diagnosis.localise as loc_mod
+    from geardyn.sweep import load_spec
+    from geardyn.sweep.verdicts import verdicts
+
+    real = loc_mod.localise
+
+    def localised(verdict, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, ANN202
+        notes = real(verdict, *args, **kwargs)
+        if verdict.detection["detected"]:
+            verdict.localisation = {**verdict.localisation, "state": "localised",
+                                    "components": ["sun"], "confidence": 0.97,
+                                    "level": "component"}
+        return notes
+
+    monkeypatch.setattr(loc_mod, "localise", localised)
+    sw = load_spec(spec_path)
+    v = verdicts(open_dataset(reference).load(), sw.spec.outputs.verdicts, sw)
+    assert list(v["verdict_state"].values[3:]) == ["alarm"] * 3
+    assert list(v["location"].values[3:]) == ["sun"] * 3
+    assert list(v["localisation_state"].values[3:]) == ["localised"] * 3
+    assert list(v["localisation_level"].values[3:]) == ["component"] * 3
+    assert list(v["candidates"].values[3:]) == [""] * 3
+    np.testing.assert_array_equal(v["location_confidence"].values[3:], 0.97)
+    assert list(v["verdict_state"].values[:3]) == ["partly judged"] * 3
+
+
 def test_cases_that_cannot_be_judged(reference: Path, spec_path: Path) -> None:
     """A case whose every rotating component is too short, a failed run and a case without a
     healthy case at its operating point are 'not judged' (never healthy or alarm); a
