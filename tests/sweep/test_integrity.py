@@ -331,7 +331,13 @@ values = [1e-4, 2e-2]
     short.write_text(SPEC.replace("enabled = false", "enabled = true\nskip_s = 0.0"))
     r = CliRunner().invoke(app, ["sweep", str(short), "--out", str(out), "--check"])
     assert r.exit_code == 0, r.output
-    assert "fewer than 4 whole own revolutions" in r.output.replace("\n", " ")
+    text = r.output.replace("\n", " ")
+    # the rule, and each case by its parameters with its components' revolutions (issue 18
+    # part 7): 2 s hold 2 s × 40.5329 rpm / 60 = 1.35 sun-shaft revolutions
+    assert "at least 4 whole own revolutions" in text, text
+    assert "case 0 (motor_speed_rpm = 1187.5, rated = 1187.5, supply = 62.5, " in text
+    assert "case 2 (motor_speed_rpm = 950.0" in text and "sun 1.4, " in text
+    assert "(no component judgeable: the case will be 'not judged')" in text
 
 
 def test_check_refuses_an_unstable_fe_time_step(tmp_path: Path) -> None:

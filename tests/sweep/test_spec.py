@@ -154,3 +154,33 @@ def test_example_spec_is_valid() -> None:
     healthy = [c for c in sw.cases if c.labels(sw.axes)["fault_gear"] == "none"]
     assert len(healthy) == 2 * 3
     assert all(get_path(sw.case_config(c), CRACK) == 0.0 for c in healthy)
+
+
+def _with_verdicts(**opts: object) -> dict:
+    data = spec({"name": "crack", "path": CRACK, "values": [0.0, 0.1]})
+    data["outputs"] = {"verdicts": {"healthy": {"crack": 0.0}, **opts}}
+    return data
+
+
+@pytest.mark.parametrize(("value", "rule"), [
+    (0.0, "greater than 0"), (1.0, "less than 1"), (-0.01, "greater than 0"),
+    (1.5, "less than 1"), (math.nan, "finite"), ("one percent", "valid number")])
+def test_bad_false_alarm_probability_named(value: object, rule: str) -> None:
+    """The stated false-alarm probability of the sweep verdicts must lie in (0, 1): the error
+    names the option and the rule broken, nothing runs."""
+    msg = problems(_with_verdicts(false_alarm_probability=value))
+    assert "outputs.verdicts.false_alarm_probability" in msg and rule in msg, msg
+
+
+def test_verdict_options_defaults_and_other_errors() -> None:
+    v = from_dict(_with_verdicts()).spec.outputs.verdicts
+    assert v.false_alarm_probability == 0.01 and v.threshold_k is None  # as [diagnosis]
+    assert v.localisation_confidence == 0.95
+    msg = problems(_with_verdicts(threshold_k=0.0))
+    assert "outputs.verdicts.threshold_k" in msg and "greater than 0" in msg
+    msg = problems(_with_verdicts(localisation_confidence=0.4))
+    assert "outputs.verdicts.localisation_confidence" in msg and "0.5" in msg
+    data = _with_verdicts()
+    data["axes"][0]["name"] = "tests"  # a stored verdict variable
+    data["outputs"]["verdicts"]["healthy"] = {"tests": 0.0}
+    assert "tests are the names of verdict variables" in problems(data)

@@ -124,21 +124,16 @@ def _show_warning(message, category, *args, **kwargs) -> None:  # noqa: ANN001, 
 
 def _check(sweep) -> None:  # noqa: ANN001 - Sweep
     """Run-time checks of every case (ConfigError → exit 2) and cases too short to judge."""
-    from geardyn.sweep.layout import plan, short_cases
-    from geardyn.sweep.verdicts import MIN_OWN_REVOLUTIONS
+    from rich.markup import escape
+
+    from geardyn.sweep.layout import plan
+    from geardyn.sweep.verdicts import short_case_notes
 
     layout = plan(sweep)
     for note in layout.notes:
         console.print(f"warning: {note}", highlight=False)
-    short = short_cases(sweep, MIN_OWN_REVOLUTIONS)
-    if short:
-        first = short[0]
-        comps = ", ".join(f"{c} {r:.2g}" for c, r in list(first.components.items())[:6])
-        console.print(
-            f"warning: {len(short)} distinct case config(s) give some components fewer than "
-            f"{MIN_OWN_REVOLUTIONS} whole own revolutions in the analysed record (run length "
-            f"− skip_s, nominal speed), e.g. case {first.index}: {comps}; their verdicts will "
-            "be 'unknown' (lengthen run.t_end_s)", highlight=False)
+    for note in short_case_notes(sweep):
+        console.print(f"warning: {escape(note)}", highlight=False)
     console.print("spec, every case and the run-time checks are valid; nothing run (--check)")
 
 

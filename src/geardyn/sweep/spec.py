@@ -163,12 +163,24 @@ class IndicatorOutput(_M):
 class VerdictOutput(_M):
     """Detection verdicts against a healthy baseline made of the sweep's own cases:
     ``healthy`` selects them by axis value (``{fault_gear = "none"}``), ``match`` lists the
-    axes a baseline case must share with the judged case (operating point)."""
+    axes a baseline case must share with the judged case (operating point). The per-test
+    level is set as ``geardyn diagnose`` sets it: from ``false_alarm_probability`` by the
+    Šidák correction over the tests of each case (Šidák 1967), unless ``threshold_k`` fixes
+    the factor."""
 
     healthy: dict[str, str | float | int | bool]
     match: list[str] = Field(default_factory=list)
-    threshold_k: float | None = Field(None, gt=0)
+    false_alarm_probability: float = Field(
+        0.01, gt=0, lt=1,
+        description="probability that a healthy case is reported detected (machine level): "
+        "per-test level α = 1 − (1 − P)^(1/m) over the m tests of the case (Šidák 1967)")
+    threshold_k: float | None = Field(
+        None, gt=0, description="fixed threshold factor (mean + k·σ); overrides "
+        "false_alarm_probability (α = Φ(−k) per test)")
     sigma_floor: float | None = Field(None, ge=0, lt=1)
+    localisation_confidence: float = Field(
+        0.95, ge=0.5, lt=1,
+        description="posterior probability a component needs to be named as the location")
 
 
 class OutputSpec(_M):
@@ -204,6 +216,12 @@ class SweepSpec(_M):
             if unknown:
                 raise ValueError(f"outputs.verdicts: {', '.join(unknown)} is not an axis name "
                                  f"(axes: {', '.join(names)})")
+            from geardyn.sweep.verdicts import VARIABLES
+
+            clash = sorted(set(names) & set(VARIABLES))
+            if clash:
+                raise ValueError(f"axis name(s) {', '.join(clash)} are the names of verdict "
+                                 "variables (outputs.verdicts); rename the axis")
         return self
 
 

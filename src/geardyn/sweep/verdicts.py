@@ -10,24 +10,37 @@ own baseline, so its verdict is a fair false-alarm test.
   :data:`MIN_OWN_REVOLUTIONS` whole own revolutions (stored ``revolutions``, counted by the
   worker from the result) is not judged: a TSA block of fewer revolutions rejects too little
   non-synchronous content for its statistics to mean anything (the block rule of
-  :mod:`geardyn.diagnosis.features`). Its state is ``unknown`` and ``verdict_note`` says why;
-  a case with no judgeable component gets the machine state ``unknown``.
-* **Detection.** Thresholds μ + k·σ over the pooled baseline blocks with the small-sample
-  factor and σ floor (:func:`geardyn.diagnosis.baseline.thresholds`), k = ``threshold_k``
-  (default 3), judged per component (:func:`geardyn.diagnosis.verdict.judge`).
+  :mod:`geardyn.diagnosis.features`). Its state is ``not judged`` and ``verdict_note`` says
+  why; a case with no judgeable component (or no healthy case at its operating point, or a
+  run not ``ok``) is ``not judged``, and one with nothing detected among the components
+  judged while others were too short is ``partly judged`` — never ``healthy``.
+  ``geardyn sweep --check`` names such cases beforehand (:func:`short_case_notes`).
+* **Level.** As :func:`geardyn.diagnosis.pipeline.judge_features`: each case has m tests
+  (every usable detection threshold it has a value for, each isolation domain with
+  statistics in the case and its baseline, each bearing line with a band energy); the
+  per-test level is α = 1 − (1 − P)^(1/m) from ``false_alarm_probability`` P (Šidák 1967,
+  :func:`level`) and k = Φ⁻¹(1 − α); an explicit ``threshold_k`` overrides k (α = Φ(−k)).
+* **Detection.** Thresholds μ + k·σ over the baseline cases with the small-sample factor and
+  σ floor (:func:`geardyn.diagnosis.baseline.thresholds`), judged per component
+  (:func:`geardyn.diagnosis.verdict.judge`).
 * **Localisation** (:func:`geardyn.diagnosis.localise.localise`, docs/diagnosis.md) from the
   isolation evidence of ``geardyn diagnose``, computed from what each case stores: the
   coherent synchronous deviation ratio of every own-angle, transmission-error and
   planet-separated domain (the per-order statistics ``isolation.*`` of the case against those
   of its baseline cases, leave-one-out null, :func:`geardyn.diagnosis.isolation.
   coherent_sdr`) and the bearings' fault-band energy shares (``band_energy`` against the
-  baseline cases' shares, :func:`geardyn.diagnosis.isolation.evidence_from_null`). Each test
-  runs at α = Φ(−k); a detection without evidence ends ``uncertain`` with its candidates
-  ranked by detection margin — never ``healthy``.
+  baseline cases' shares, :func:`geardyn.diagnosis.isolation.evidence_from_null`), each test
+  at α; the location needs the posterior ``localisation_confidence``. A detection without
+  evidence ends ``uncertain`` with its candidates ranked by detection margin — never
+  ``healthy``.
 
-Stored: ``verdict_state`` (healthy / alarm = detected and localised / uncertain / unknown;
-'' not judged), ``location`` (components, comma-separated), ``location_confidence`` [1]
-(posterior of the location), ``verdict_note``; per component ``verdict`` and ``margin`` [1].
+Stored per case (:data:`VARIABLES`): ``verdict_state`` (healthy / alarm = detected and
+localised / uncertain / partly judged / not judged; '' pending), ``location`` (components,
+comma-separated), ``location_confidence`` [1] (posterior of the location),
+``localisation_state`` (none / localised / uncertain), ``localisation_level`` (component /
+planet set / planet), ``candidates``, ``tests`` [1] (m), ``alpha_per_test`` [1],
+``threshold_k`` [1], ``false_alarm_probability`` [1] (stated, or implied by threshold_k),
+``verdict_note``; per component ``verdict`` and ``margin`` [1].
 """
 
 from __future__ import annotations
@@ -49,6 +62,10 @@ if TYPE_CHECKING:
 #: Fewest whole own revolutions of a rotating component for its verdict: one TSA block of the
 #: features' minimum (:data:`geardyn.diagnosis.features.MIN_REVS_PER_BLOCK`).
 MIN_OWN_REVOLUTIONS = MIN_REVS_PER_BLOCK
+#: Stored state of a component (or case) the record cannot support, and of a case with no
+#: detection among the components judged while others were too short.
+NOT_JUDGED = "not judged"
+PARTLY_JUDGED = "partly judged"
 
 
 def _table(ind: np.ndarray, comps: list[str], kinds: list[str], inds: list[str],
@@ -120,6 +137,27 @@ class _Isolation:
             self._stats[i] = out
         return self._stats[i]
 
+    def domains(self, i: int, base: list[int], skip: set[str]) -> list[tuple]:
+        """The isolation domains case ``i`` has a test on against the baseline cases
+        ``base``: (index, label, record stats, baseline stats, ambiguous-order mask) of every
+        domain whose statistics the case and every baseline case hold, with a member not in
+        ``skip`` (too short); own-angle domains first, then TE and planet-separated ones."""
+        if len(base) < 2:
+            return []
+        rec = self.stats(i)
+        bases = [self.stats(j) for j in base]
+        out = []
+        order = sorted(range(len(self.labels)),
+                       key=lambda d: self.labels[d].startswith(("TE:", "planet:")))
+        for d in order:
+            label = self.labels[d]
+            r, mask = rec[d]
+            b = [s[d][0] for s in bases]
+            if r is None or any(x is None for x in b) or not set(_members(label)) - skip:
+                continue
+            out.append((d, label, r, b, mask))
+        return out
+
     def evidence(self, i: int, base: list[int], alpha: float, skip: set[str]
                  ) -> dict[str, Any]:
         """cSDR (own angle), cSDR_TE (a wheel's mesh; replaces its own-angle evidence) and
@@ -138,19 +176,8 @@ class _Isolation:
             evidence_from_null,
         )
 
-        if len(base) < 2:
-            return {}
-        rec = self.stats(i)
-        bases = [self.stats(j) for j in base]
         out: dict[str, Any] = {}
-        order = sorted(range(len(self.labels)),
-                       key=lambda d: self.labels[d].startswith(("TE:", "planet:")))
-        for d in order:
-            label = self.labels[d]
-            r, mask = rec[d]
-            b = [s[d][0] for s in bases]
-            if r is None or any(x is None for x in b):
-                continue
+        for d, label, r, b, mask in self.domains(i, base, skip):
             if mask is not None:
                 r, b = _without(r, mask), [_without(x, mask) for x in b]
             key = (d, tuple(base), b"" if mask is None else np.packbits(mask).tobytes())
@@ -162,22 +189,94 @@ class _Isolation:
             ev = evidence_from_null("", measure, coherent_sdr(r, b), self._null[key],
                                     alpha, group=label)
             if measure == "cSDR_planet":
-                p = label.split(":", 1)[1]
+                p = _members(label)[0]
                 if p not in skip:
                     power, dof = deviation_power(r, b)
                     out[f"{p}#planet"] = replace(ev, component=p, power=power, dof=dof)
                 continue
-            members = [label.split(":", 1)[1]] if measure == "cSDR_TE" else label.split("+")
-            for c in members:
+            for c in _members(label):
                 if c not in skip:
                     out[c] = replace(ev, component=c)
         return out
 
 
-def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) -> xr.Dataset:
-    """Verdict variables (module docstring) of the sweep data set ``ds``."""
+def _members(label: str) -> list[str]:
+    """Components of an isolation domain label (``sun``, ``a+b+c``, ``TE:<wheel>``,
+    ``planet:<name>``)."""
+    if label.startswith(("TE:", "planet:")):
+        return [label.split(":", 1)[1]]
+    return label.split("+")
+
+
+def level(false_alarm_probability: float, threshold_k: float | None, tests: int
+          ) -> tuple[float, float, float]:
+    """(α per test, threshold factor k, family false-alarm probability P) over ``tests`` = m
+    tests, as :func:`geardyn.diagnosis.pipeline.judge_features` sets them: the Šidák level
+    α = 1 − (1 − P)^(1/m) (Šidák 1967; :func:`geardyn.diagnosis.localise.sidak_alpha`) and
+    k = Φ⁻¹(1 − α); an explicit ``threshold_k`` overrides: α = Φ(−k), P = 1 − (1 − α)^m."""
     from scipy.stats import norm
 
+    from geardyn.diagnosis.localise import sidak_alpha
+
+    m = max(int(tests), 1)
+    if threshold_k is not None:
+        k = float(threshold_k)
+        alpha = float(norm.sf(k))
+        return alpha, k, float(-math.expm1(m * math.log1p(-alpha)))
+    alpha = sidak_alpha(false_alarm_probability, m)
+    return alpha, float(norm.isf(alpha)), float(false_alarm_probability)
+
+
+def _detection_tests(th0: pd.DataFrame, table: pd.DataFrame) -> int:
+    """Detection tests of a record (as judge_features counts them): every usable
+    (component, kind, indicator, channel) threshold the record has a finite value for."""
+    from geardyn.diagnosis.baseline import KEYS
+    from geardyn.diagnosis.verdict import record_values
+
+    if table.empty:
+        return 0
+    have = set(map(tuple, record_values(table)[KEYS].to_numpy().tolist()))
+    return sum(1 for r in th0.loc[th0["usable"], KEYS].to_numpy().tolist()
+               if tuple(r) in have)
+
+
+#: Per-case verdict variables and their attributes.
+_CASE_VARS: dict[str, dict[str, str]] = {
+    "verdict_state": {"long_name": "machine verdict: healthy (nothing detected, every "
+                      "component judged) / alarm (detected and localised) / uncertain "
+                      "(detected, location uncertain) / partly judged (nothing detected "
+                      "among the components judged; some too short to judge) / not judged "
+                      "(nothing judgeable, no baseline, or the run not ok); '' pending"},
+    "location": {"long_name": "components the fault is localised to (comma-separated; '' "
+                 "none)"},
+    "location_confidence": {"units": "1", "long_name": "posterior probability of the "
+                            "location (uniform prior, Gaussian likelihood ratio of the "
+                            "isolation evidence)"},
+    "localisation_state": {"long_name": "localisation: none (nothing detected) / localised / "
+                           "uncertain (candidates listed); '' not judged"},
+    "localisation_level": {"long_name": "what the location names: component / planet set / "
+                           "planet ('' not localised)"},
+    "candidates": {"long_name": "candidate components of a detection whose location is "
+                   "uncertain, most probable first (comma-separated)"},
+    "tests": {"units": "1", "long_name": "tests m of the case: usable detection thresholds "
+              "it has a value for + isolation statistics (many-tests correction)"},
+    "alpha_per_test": {"units": "1", "long_name": "per-test false-alarm level α (Šidák 1967: "
+                       "1 − (1 − P)^(1/m); Φ(−k) with threshold_k)"},
+    "threshold_k": {"units": "1", "long_name": "threshold factor k = Φ⁻¹(1 − α) of the "
+                    "detection thresholds mean + k·σ"},
+    "false_alarm_probability": {"units": "1", "long_name": "machine-level false-alarm "
+                                "probability P of the case's m tests (stated, or implied by "
+                                "threshold_k)"},
+    "verdict_note": {"long_name": "why components or the case were not judged"},
+}
+
+
+#: Every variable the verdicts write (axis names must differ from them).
+VARIABLES = ("verdict", "margin", *_CASE_VARS)
+
+
+def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) -> xr.Dataset:
+    """Verdict variables (module docstring) of the sweep data set ``ds``."""
     from geardyn.diagnosis.baseline import ThresholdRule, thresholds
     from geardyn.diagnosis.isolation import ROTATING, evidence_from_null
     from geardyn.diagnosis.localise import localise
@@ -199,24 +298,47 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) ->
     for k, v in opts.healthy.items():
         healthy &= np.asarray(ds[k].values == v)
     keys = [tuple(str(ds[a].values[i]) for a in opts.match) for i in range(n)]
-    k_factor = opts.threshold_k or 3.0
-    rule = ThresholdRule(k=k_factor,
-                         sigma_floor=0.05 if opts.sigma_floor is None else opts.sigma_floor)
-    alpha = float(norm.sf(k_factor))
+    floor = 0.05 if opts.sigma_floor is None else opts.sigma_floor
     rotating = np.array([k in ROTATING for k in kinds])
+    short_all = rotating[None, :] & ~(revs >= MIN_OWN_REVOLUTIONS)
+    bearings = np.flatnonzero(np.array(kinds) == "bearing")
     info = _components(sweep, ds)
     iso = _Isolation(ds) if "isolation.mean_real" in ds else None
 
     state = np.full((n, len(comps)), "", dtype=object)
     margin = np.full((n, len(comps)), np.nan)
-    machine = np.full(n, "", dtype=object)
-    location = np.full(n, "", dtype=object)
-    confidence = np.full(n, np.nan)
-    notes = np.full(n, "", dtype=object)
+    text = {v: np.full(n, "", dtype=object) for v in
+            ("verdict_state", "location", "localisation_state", "localisation_level",
+             "candidates", "verdict_note")}
+    num = {v: np.full(n, np.nan) for v in
+           ("location_confidence", "tests", "alpha_per_test", "threshold_k",
+            "false_alarm_probability")}
     cache: dict[tuple, pd.DataFrame | None] = {}
-    for i in np.flatnonzero(ok):
-        short = rotating & ~(revs[i] >= MIN_OWN_REVOLUTIONS)
+
+    def table(j: int, keep: np.ndarray) -> pd.DataFrame:
+        return _table(ind[j], comps, kinds, inds, channel, keep & ~short_all[j])
+
+    def thresholds_of(base: list[int], keep: np.ndarray, k: float) -> pd.DataFrame | None:
+        ck = (tuple(base), tuple(keep), k)
+        if ck not in cache:
+            tables = [table(j, keep) for j in base]
+            try:  # (thresholds of only empty tables: ValueError of pandas, not InputError)
+                cache[ck] = (thresholds(tables, ThresholdRule(k=k, sigma_floor=floor))
+                             if any(not t.empty for t in tables) else None)
+            except InputError:  # nothing judgeable in the baseline
+                cache[ck] = None
+        return cache[ck]
+
+    for i in range(n):
+        if status[i] in ("", None):
+            continue  # pending
+        if not ok[i]:
+            text["verdict_state"][i] = "not judged"
+            text["verdict_note"][i] = f"run status '{status[i]}'"
+            continue
+        short = short_all[i]
         keep = ~short
+        skip = {comps[c] for c in np.flatnonzero(short)}
         base = [j for j in np.flatnonzero(healthy) if j != i and keys[j] == keys[i]]
         why = []
         if short.any():
@@ -224,86 +346,132 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) ->
                        f"{MIN_OWN_REVOLUTIONS} whole own revolutions): "
                        + ", ".join(f"{comps[c]} {revs[i, c]:.3g}"
                                    for c in np.flatnonzero(short)))
-        if not base:
-            notes[i] = "; ".join([*why, "no healthy case at this operating point"])
+        state[i, short] = NOT_JUDGED
+        th0 = thresholds_of(base, keep, 3.0) if base else None
+        if th0 is None:
+            text["verdict_state"][i] = NOT_JUDGED
+            state[i, state[i] == ""] = NOT_JUDGED
+            text["verdict_note"][i] = "; ".join(
+                [*why, "no healthy case at this operating point" if not base
+                 else "no component could be judged"])
             continue
-        ck = (keys[i], tuple(base), tuple(keep))
-        if ck not in cache:
-            try:
-                cache[ck] = thresholds([_table(ind[j], comps, kinds, inds, channel,
-                                               keep & ~(rotating & ~(revs[j] >=
-                                                                     MIN_OWN_REVOLUTIONS)))
-                                        for j in base], rule)
-            except InputError:  # nothing judgeable in the baseline
-                cache[ck] = None
-        if cache[ck] is None:
-            machine[i] = "unknown"
-            state[i] = "unknown"
-            notes[i] = "; ".join([*why, "no component could be judged"])
-            continue
-        v = judge(_table(ind[i], comps, kinds, inds, channel, keep), cache[ck], rule,
-                  components=list(zip(comps, kinds, strict=True)))
+        # m tests, as judge_features counts them: usable detection thresholds the case has a
+        # value for, each isolation domain, each bearing line with a baseline null
+        record = table(i, keep)
+        bearing_tests = [(c, li) for c in bearings for li in range(len(lines))
+                         if band is not None and np.isfinite(band[i, c, li])
+                         and np.isfinite(band[base, c, li]).sum() >= 2]
+        m = (_detection_tests(th0, record) + len(bearing_tests)
+             + (len(iso.domains(i, base, skip)) if iso is not None else 0))
+        alpha, k_factor, p_fa = level(opts.false_alarm_probability, opts.threshold_k, m)
+        th = thresholds_of(base, keep, k_factor)
+        rule = ThresholdRule(k=k_factor, sigma_floor=floor)
+        v = judge(record, th, rule, components=list(zip(comps, kinds, strict=True)))
         evidence = {}
-        if band is not None:
-            for c in np.flatnonzero(np.array(kinds) == "bearing"):
-                best = None
-                for li, line in enumerate(lines):
-                    ev = evidence_from_null(comps[c], f"{line} band energy", band[i, c, li],
-                                            [band[j, c, li] for j in base], alpha,
-                                            group=comps[c])
-                    if math.isfinite(ev.threshold) and (best is None or ev.z > best.z):
-                        best = ev
-                if best is not None:
-                    evidence[comps[c]] = best
+        for c, li in bearing_tests:
+            ev = evidence_from_null(comps[c], f"{lines[li]} band energy", band[i, c, li],
+                                    [band[j, c, li] for j in base], alpha, group=comps[c])
+            best = evidence.get(comps[c])
+            if math.isfinite(ev.threshold) and (best is None or ev.z > best.z):
+                evidence[comps[c]] = ev
         if iso is not None:
-            evidence.update(iso.evidence(i, base, alpha, {comps[c] for c in
-                                                          np.flatnonzero(short)}))
-        tests = (sum(len(c.indicators) for c in v.components.values())
-                 + len({ev.group for ev in evidence.values()}))
-        localise(v, evidence, info, alpha=alpha,
-                 false_alarm_probability=float(-math.expm1(max(tests, 1)
-                                                           * math.log1p(-alpha))),
-                 tests=max(tests, 1))
-        judged = [c for c in v.components.values() if c.state != "unknown"]
-        machine[i] = v.state if judged else "unknown"
-        location[i] = ",".join(v.location)
-        conf = (v.localisation or {}).get("confidence")
-        confidence[i] = float(conf) if conf is not None else np.nan
-        for c, cv in v.components.items():
-            if c not in comps:
-                continue
-            k = comps.index(c)
-            state[i, k] = cv.state
-            w = cv.worst
-            margin[i, k] = w[1] if w else np.nan
+            evidence.update(iso.evidence(i, base, alpha, skip))
+        localise(v, evidence, info, alpha=alpha, false_alarm_probability=p_fa, tests=max(m, 1),
+                 confidence=opts.localisation_confidence)
+        judged = [c for n_, c in v.components.items() if n_ not in skip
+                  and c.state != "unknown"]
+        loc = v.localisation or {}
+        machine = v.state
         if not judged:
+            machine = NOT_JUDGED
             why.append("no component could be judged")
-        notes[i] = "; ".join(why)
-    return xr.Dataset({
+        elif machine == "healthy" and short.any():
+            machine = PARTLY_JUDGED
+        text["verdict_state"][i] = machine
+        text["location"][i] = ",".join(v.location)
+        text["localisation_state"][i] = str(loc.get("state") or "")
+        text["localisation_level"][i] = str(loc.get("level") or "")
+        if loc.get("state") == "uncertain":
+            text["candidates"][i] = ",".join(dict.fromkeys(
+                str(x["component"]) for x in loc.get("candidates", [])))
+        conf = loc.get("confidence")
+        num["location_confidence"][i] = float(conf) if conf is not None else np.nan
+        num["tests"][i] = max(m, 1)
+        num["alpha_per_test"][i] = alpha
+        num["threshold_k"][i] = k_factor
+        num["false_alarm_probability"][i] = p_fa
+        for c, cv in v.components.items():
+            if c in comps and c not in skip:
+                k = comps.index(c)
+                state[i, k] = cv.state
+                w = cv.worst
+                margin[i, k] = w[1] if w else np.nan
+        text["verdict_note"][i] = "; ".join(why)
+    out = {
         "verdict": (("case", "component"), state,
                     {"long_name": "component state after detection and localisation against "
                                   "the sweep's healthy cases at the same operating point "
-                                  "('' not judged)"}),
+                                  f"('{NOT_JUDGED}': too short or no baseline; '' pending)"}),
         "margin": (("case", "component"), margin,
                    {"units": "1", "long_name": "worst detection indicator's margin (value / "
                                                "threshold; > 1 alarm)"}),
-        "verdict_state": (("case",), machine,
-                          {"long_name": "machine verdict: healthy / alarm (detected and "
-                                        "localised) / uncertain (detected, location "
-                                        "uncertain) / unknown (nothing judgeable); '' not "
-                                        "judged"}),
-        "location": (("case",), location,
-                     {"long_name": "components the fault is localised to (comma-separated; "
-                                   "'' none)"}),
-        "location_confidence": (("case",), confidence,
-                                {"units": "1", "long_name": "posterior probability of the "
-                                 "location (uniform prior, Gaussian likelihood ratio of the "
-                                 "isolation evidence)"}),
-        "verdict_note": (("case",), notes,
-                         {"long_name": "why components or the case were not judged"}),
-    }, attrs={"verdict_rule": rule.describe(), "verdict_healthy": str(dict(opts.healthy)),
-              "verdict_match": ",".join(opts.match),
-              "verdict_min_own_revolutions": MIN_OWN_REVOLUTIONS})
+    }
+    for name, attrs in _CASE_VARS.items():
+        out[name] = (("case",), text[name] if name in text else num[name], attrs)
+    return xr.Dataset(out, attrs={
+        "verdict_rule": ("detection thresholds as geardyn diagnose (geardyn.diagnosis."
+                         f"baseline.ThresholdRule, σ floor {floor:g}·|mean|) with each case's "
+                         "factor threshold_k; isolation evidence at its alpha_per_test"),
+        "verdict_false_alarm_probability": (
+            "threshold_k given" if opts.threshold_k is not None
+            else float(opts.false_alarm_probability)),
+        "verdict_threshold_k": ("from false_alarm_probability (Šidák 1967)"
+                                if opts.threshold_k is None else float(opts.threshold_k)),
+        "verdict_localisation_confidence": float(opts.localisation_confidence),
+        "verdict_healthy": str(dict(opts.healthy)), "verdict_match": ",".join(opts.match),
+        "verdict_min_own_revolutions": MIN_OWN_REVOLUTIONS})
+
+
+def short_case_notes(sweep: Sweep, most: int = 5) -> list[str]:
+    """``geardyn sweep --check``: the cases whose analysed record is too short to judge some
+    rotating components (predicted from the nominal input speed by
+    :func:`geardyn.sweep.layout.short_cases`), each named by its axis values with its short
+    components' revolutions, the rule and the run length that would judge them; the first
+    ``most`` distinct case configs, then a count."""
+    from geardyn.config.loader import parse_config
+    from geardyn.diagnosis.isolation import ROTATING
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.sweep.layout import _components as components
+    from geardyn.sweep.layout import _reference, _t_end, _where, short_cases
+
+    short = short_cases(sweep, MIN_OWN_REVOLUTIONS)
+    if not short:
+        return []
+    ind = sweep.spec.outputs.indicators
+    out = [f"{len(short)} distinct case config(s) are too short for the statistics: a rotating "
+           f"component needs at least {MIN_OWN_REVOLUTIONS} whole own revolutions in the "
+           "analysed record (run length − skip_s, at the nominal input speed: one TSA block "
+           f"of geardyn.diagnosis.features.MIN_REVS_PER_BLOCK = {MIN_REVS_PER_BLOCK}); "
+           f"those components are stored '{NOT_JUDGED}', and a case with nothing detected "
+           f"among the others '{PARTLY_JUDGED}' (nothing judgeable: '{NOT_JUDGED}')"]
+    for sc in short[:most]:
+        cfg = parse_config(sweep.case_config(sweep.cases[sc.index]))
+        t_end = _t_end(sweep, cfg)
+        o = options(cfg, channel=ind.channel, skip_s=ind.skip_s)
+        rotating = {n for n, k, r in components(cfg, _reference(cfg, o.channel, o.reference))
+                    if k in ROTATING and r > 0}
+        slowest = min(sc.components.values())
+        need = (f"; {o.skip_s + (t_end - o.skip_s) * MIN_OWN_REVOLUTIONS / slowest:.3g} s "
+                "would judge them all (run.t_end_s)" if t_end is not None and slowest > 0
+                else "")
+        none = (f" (no component judgeable: the case will be '{NOT_JUDGED}')"
+                if rotating <= set(sc.components) else "")
+        out.append(f"{_where(sweep, sc.index)}: "
+                   + ", ".join(f"{c} {r:.2g}" for c, r in sc.components.items())
+                   + f" revolutions{none}{need}")
+    if len(short) > most:
+        out.append(f"… and {len(short) - most} more distinct case config(s)")
+    return out
 
 
 def write_verdicts(path: str | Path, sweep: Sweep) -> None:
