@@ -5,7 +5,7 @@ constant speed or tacho/encoder pulses), and writes: an annotated order spectrum
 the TSA of the reference shaft, its cepstrum, an indicator table and the marker table (figures
 as PNG, tables as CSV, the order spectrum as NetCDF). With ``--ias-ppr R`` the SIGNAL file holds
 encoder edge times [s] of the reference shaft instead, and the analysed signal is its IAS by
-the elapsed-time method (seed 002 eq 1), optionally latched on a ``--clock`` counter.
+the elapsed-time method (Thibault et al. 2024, eq 1), optionally latched on a ``--clock`` counter.
 """
 
 from __future__ import annotations
@@ -76,7 +76,7 @@ def analyze(
     ),
     ias_ppr: int | None = typer.Option(
         None, "--ias-ppr", help="SIGNAL is encoder edge times [s] with this many pulses/rev: "
-        "analyse the IAS (elapsed-time method, seed 002 eq 1)"
+        "analyse the IAS (elapsed-time method, Thibault et al. 2024, eq 1)"
     ),
     clock: float | None = typer.Option(
         None, "--clock", help="counter clock [Hz] latching the encoder edges (--ias-ppr)"

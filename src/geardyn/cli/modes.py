@@ -1,7 +1,7 @@
 """``geardyn modes CONFIG`` — natural frequencies, mode types and energies of the config's
-dynamic model: the planetary model (``[planetary_dynamics]``, seed 003 ch. 3), the general
+dynamic model: the planetary model (``[planetary_dynamics]``, Hammami 2015, ch. 3), the general
 model of any mechanism (``[dynamics]``, docs/dynamics.md) or the FE shaft lines
-(``[transmission]``, seed 002, linearised at the static preload), with optional mode-shape /
+(``[transmission]``, Thibault et al. 2024, linearised at the static preload), with optional mode-shape /
 energy plots and a Campbell table (``--campbell "0:3000:7 rpm"``: frequencies against speed with
 the gyroscopic terms); ``--out DIR`` writes modes.nc, modes.png and, with ``--campbell``,
 campbell.csv and campbell.png."""
@@ -101,7 +101,7 @@ def parse_speeds(spec: str) -> tuple[np.ndarray, str]:
 def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa: ANN001
                    n_modes: int, speed_of: str | None = None, prepared=None):  # noqa: ANN001, ANN201
     """Campbell DataArray (speed [unit], mode) in Hz of the model of ``kind``: FE (reference
-    shaft ``speed_of``, default the speed law's), planetary (the carrier speed, seed 003 eq
+    shaft ``speed_of``, default the speed law's), planetary (the carrier speed, Hammami 2015, eq
     3.1 via :func:`geardyn.solve.modal.campbell`) or mechanism (the speed of body ``speed_of``,
     default the first driven link, :func:`geardyn.models.core.modal.core_campbell`)."""
     rad = speeds * SPEED_UNITS[unit.lower()]
@@ -118,7 +118,7 @@ def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa
 
         if speed_of is not None:
             raise InputError("--speed-of: the planetary model's Campbell speed is the carrier "
-                             "speed (seed 003 eq 3.1); leave --speed-of out")
+                             "speed (Hammami 2015, eq 3.1); leave --speed-of out")
         cd = campbell(model, rad, n_modes).rename({"carrier_speed": "speed"})
         of = "carrier"
     else:

@@ -1,6 +1,6 @@
 """Mechanism description (the ``[mechanism]`` part of a geardyn config), validated by pydantic.
 
-The general form follows seed 000 §2: named links, gear pairs with tooth counts and pitch
+The general form follows Penaud et al. 2012, §2: named links, gear pairs with tooth counts and pitch
 angles (complex weights ``N·e^{iθ}``), turning pairs grouped by axis level, the frame link and
 optional rolling bearings. Conveniences (planetary, parallel and bevel stages) expand into the
 same graph (:meth:`Mechanism.graph`).
@@ -70,7 +70,7 @@ def _link(v: object) -> object:
 
 
 class GearSide(_Model):
-    """One side of a gear pair: the wheel on ``link`` (seed 000 §2.2)."""
+    """One side of a gear pair: the wheel on ``link`` (Penaud et al. 2012, §2.2)."""
 
     link: str = Field(description="link carrying this wheel")
     teeth: Teeth
@@ -78,7 +78,7 @@ class GearSide(_Model):
     pitch_angle_deg: float | None = Field(
         None,
         description="pitch angle θ (deg, positive clockwise) from the gear axis to the tooth axis "
-        "in contact; default 0 for external, 180 for internal gears (seed 000 §2.2)",
+        "in contact; default 0 for external, 180 for internal gears (Penaud et al. 2012, §2.2)",
     )
     wheel: str | None = Field(
         None, description="name of the toothed wheel (default '<link>/z<teeth>')"
@@ -93,12 +93,12 @@ class GearSide(_Model):
             if self.internal and a <= 90:
                 raise ValueError(
                     f"pitch_angle_deg {self.pitch_angle_deg}: an internal gear needs "
-                    "90 < |θ| ≤ 180 (seed 000 §2.2)"
+                    "90 < |θ| ≤ 180 (Penaud et al. 2012, §2.2)"
                 )
             if not self.internal and a >= 90:
                 raise ValueError(
                     f"pitch_angle_deg {self.pitch_angle_deg}: an external gear needs |θ| < 90 "
-                    "(seed 000 §2.2); set internal = true for an internal gear"
+                    "(Penaud et al. 2012, §2.2); set internal = true for an internal gear"
                 )
         return self
 
@@ -115,7 +115,7 @@ class GearSide(_Model):
 
 
 class GearPair(_Model):
-    """A gear pair between two links (general form, seed 000 §2.2)."""
+    """A gear pair between two links (general form, Penaud et al. 2012, §2.2)."""
 
     name: str | None = Field(None, description="pair name (default 'a-b')")
     a: GearSide
@@ -178,12 +178,12 @@ class Bearing(BearingGeometry):
 
 
 class TurningPair(_Model):
-    """A turning pair (revolute joint) between two links on an axis level (seed 000 §2.1)."""
+    """A turning pair (revolute joint) between two links on an axis level (Penaud et al. 2012, §2.1)."""
 
     links: tuple[str, str]
     axis: str | int = Field(
         description="axis level: turning pairs on the same level and touching form a multiple "
-        "turning pair (seed 000 §2.1)"
+        "turning pair (Penaud et al. 2012, §2.1)"
     )
 
     @field_validator("links")
@@ -317,7 +317,7 @@ class BevelStage(_Model):
     """Two bevel wheels on intersecting fixed axes at ``shaft_angle_deg`` (default 90°).
 
     Pitch-cone angles follow from the tooth counts, ``tan δ_a = sin Σ/(N_b/N_a + cos Σ)``,
-    ``δ_b = Σ − δ_a``; the seed 000 weights are ``θ_a = −δ_a``, ``θ_b = +δ_b``, so the output
+    ``δ_b = Σ − δ_a``; the Penaud et al. 2012 weights are ``θ_a = −δ_a``, ``θ_b = +δ_b``, so the output
     axis is turned by the shaft angle in the sketch plane. A negative shaft angle turns it the
     other way.
     """
@@ -337,7 +337,7 @@ class BevelStage(_Model):
         return self
 
     def pitch_angles(self) -> tuple[float, float]:
-        """(θ_a, θ_b) in radians, seed 000 sign convention."""
+        """(θ_a, θ_b) in radians, Penaud et al. 2012 sign convention."""
         sigma = math.radians(abs(self.shaft_angle_deg))
         da = math.atan2(math.sin(sigma), self.b.teeth / self.a.teeth + math.cos(sigma))
         db = sigma - da
@@ -346,10 +346,10 @@ class BevelStage(_Model):
 
 
 class Mechanism(_Model):
-    """A geared mechanism: general graph plus stage conveniences (seed 000 §2)."""
+    """A geared mechanism: general graph plus stage conveniences (Penaud et al. 2012, §2)."""
 
     name: str = "mechanism"
-    frame: str = Field(description="the fixed link (ω = 0), first row of M (seed 000 §2.4)")
+    frame: str = Field(description="the fixed link (ω = 0), first row of M (Penaud et al. 2012, §2.4)")
     links: list[Annotated[Link, BeforeValidator(_link)]] = Field(default_factory=list)
     gear_pairs: list[GearPair] = Field(default_factory=list)
     turning_pairs: list[TurningPair] = Field(default_factory=list)

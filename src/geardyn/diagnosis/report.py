@@ -227,7 +227,7 @@ def sensor_band(analysed_order: float, reference_hz: float, sample_rate_hz: floa
     whole analysed range when the sample rate is not known. ``modes_hz``: transfer-path mode
     frequencies (non-positive entries, the "no path" placeholder, are dropped).
 
-    Example: seed 004 ring accelerometer, 5 kHz sampling, sun reference at 32.43 rpm
+    Example: Wang 2010 ring accelerometer, 5 kHz sampling, sun reference at 32.43 rpm
     (0.5404 Hz): Nyquist order 2500/0.5404 = 4626; its 1.2 kHz housing mode at order 2221."""
     f_ref = float(reference_hz)
     if not math.isfinite(f_ref) or f_ref <= 0:
@@ -390,7 +390,7 @@ def _angle_deg(da: xr.DataArray) -> np.ndarray:
 
 def cwt_figure(component: str, tsa_da: xr.DataArray, max_order: float) -> Any:
     """|CWT| (Morlet) of one revolution of a TSA: angle [deg] × order [events/rev] up to
-    ``max_order`` (seed 004 ch. 9 localises a tooth fault this way). The TSA is periodic: it
+    ``max_order`` (Wang 2010, ch. 9 localises a tooth fault this way). The TSA is periodic: it
     is first resampled (Fourier) to 8 samples per period of ``max_order`` and wrapped, so that
     the transform costs little and has no edge effect."""
     import pywt

@@ -109,7 +109,7 @@ class ModalResult:
         if kind in ("energy", "kinetic"):
             ek = self.kinetic / np.maximum(self.kinetic.sum(1, keepdims=True), 1e-300)
             tables["kinetic"] = (100 * ek[keep], self.dof_names, "degree of freedom [-]",
-                                 "kinetic energy per DOF (seed 003 Table 3.4 layout)")
+                                 "kinetic energy per DOF (Hammami 2015, Table 3.4 layout)")
         if kind in ("energy", "strain"):
             if model is not None:
                 labels, ep = strain_energy_table(model, self)
@@ -118,7 +118,7 @@ class ModalResult:
                 ep = self.strain / np.maximum(self.strain.sum(1, keepdims=True), 1e-300)
             tables["strain"] = (100 * ep[keep], labels, "spring [-]",
                                 "strain energy per spring"
-                                + (" (seed 003 Table 3.5 layout)" if model is not None else ""))
+                                + (" (Hammami 2015, Table 3.5 layout)" if model is not None else ""))
         return plot_mode_energies(self.freq_hz[keep], np.nonzero(keep)[0] + 1, tables, ax)
 
 

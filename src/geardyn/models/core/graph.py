@@ -109,7 +109,7 @@ def axis_directions(tree: list[tuple[str, str]], kin: KinematicAnalysis) -> dict
             raise KinematicsError(
                 f"link '{link}' turning in '{parent}': its relative angular velocity is not "
                 f"along one axis in every motion (off-axis part {off:.3g}); check the pitch "
-                "angles of its gears (seed 000 §2.2)")
+                "angles of its gears (Penaud et al. 2012, §2.2)")
     return dict(kin.axes)
 
 
@@ -157,7 +157,7 @@ def _real_row(row: np.ndarray, where: str) -> tuple[np.ndarray, float]:
         raise KinematicsError(
             f"{where}: the contact velocities of the two gears are not along one tooth axis "
             f"(imaginary residue {np.abs(r.imag).max():.3g}); check the pitch angles "
-            "(seed 000 §2.2)")
+            "(Penaud et al. 2012, §2.2)")
     return r.real, psi
 
 
