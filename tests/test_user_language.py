@@ -78,6 +78,44 @@ def test_readme_and_docs_cite_authors():
     assert "../shared" not in (ROOT / "README.md").read_text()  # stands alone in a clone
 
 
+def verdict_problems(verdict: dict) -> list[str]:
+    """What a verdict.json breaks of issue 21: a count ``n: 0`` beside a number for its mean
+    or standard deviation (a statistic of nothing), the text "None" anywhere, and localisation
+    candidates whose value/threshold differ from the same component's indicator entry (one
+    source of truth for the report's notes and table)."""
+    out = []
+
+    def walk(o: object, path: str) -> None:
+        if isinstance(o, dict):
+            if o.get("n") == 0 and any(isinstance(o.get(k), float | int) for k in
+                                       ("mean", "std", "sigma")):
+                out.append(f"{path}: n = 0 beside a mean/std {o}")
+            for k, v in o.items():
+                walk(v, f"{path}/{k}")
+        elif isinstance(o, list):
+            for i, v in enumerate(o):
+                walk(v, f"{path}[{i}]")
+        elif isinstance(o, str) and "None" in o:
+            out.append(f"{path}: {o!r}")
+
+    walk(verdict, "")
+    for cand in (verdict.get("localisation") or {}).get("candidates", []):
+        ind = verdict["components"][cand["component"]]["indicators"].get(cand["evidence"])
+        if ind is None:
+            out.append(f"localisation candidate {cand} has no indicator entry")
+        elif (ind["value"], ind["threshold"]) != (cand["value"], cand["threshold"]):
+            out.append(f"localisation {cand} disagrees with the table {ind}")
+    return out
+
+
+def test_verdict_problems_are_found():
+    bad = {"a": {"n": 0, "mean": 1.0, "std": 0.1}, "notes": ["speed None rpm"],
+           "components": {"x": {"indicators": {"cSDR": {"value": 0.467, "threshold": 1.0}}}},
+           "localisation": {"candidates": [{"component": "x", "evidence": "cSDR",
+                                            "value": 0.234, "threshold": 1.0}]}}
+    assert len(verdict_problems(bad)) == 3
+
+
 @pytest.mark.slow
 def test_diagnosis_outputs_cite_authors(tmp_path, monkeypatch):
     """Terminal output, verdict.json and report.html of a diagnosis (the planetary template,
@@ -88,7 +126,7 @@ def test_diagnosis_outputs_cite_authors(tmp_path, monkeypatch):
     assert r.exit_code == 0, r.output
     assert not _internal(r.output)
     verdict = (tmp_path / "d" / "verdict.json").read_text()
-    json.loads(verdict)
+    assert not verdict_problems(json.loads(verdict))
     assert not _internal(verdict), _internal(verdict)
     report = (tmp_path / "d" / "report.html").read_text()
     report = re.sub(r'src="data:[^"]*"', "", report)  # embedded figures: base64, not text

@@ -59,7 +59,8 @@ class MeshDynamics(_M):
     face_width_m: float | None = Field(None, gt=0, description="face width (m)")
     model: Literal["constant", "sine", "square", "gear_geometry"] = Field(
         "constant", description="constant k; sine k̄(1 + amplitude sin 2πX); square wave with the "
-        "contact ratio (k_double = 2 k_single, Hammami 2015, eq 1.11); gear_geometry: the PE table of "
+        "contact ratio (k_double = 2 k_single, Hammami 2015, eq 1.11); gear_geometry: the PE "
+        "table of "
         "the pair's [[gear_geometry]] entry")
     stiffness_n_per_m: float | None = Field(
         None, gt=0, description="mean mesh stiffness along the line of action (N/m); default "

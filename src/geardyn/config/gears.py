@@ -53,7 +53,8 @@ class WheelGeometry(_Model):
     tip_round_m: float = Field(0.0, ge=0, description="tip edge round radius (m)")
     root_fillet: Literal["involute", "trochoid"] = Field(
         "involute", description="flank below the involute in the PE stiffness: 'involute' "
-        "(extended to the root, as the Thibault et al. 2024 / Wang 2010 tables) or 'trochoid' (the fillet cut by "
+        "(extended to the root, as the Thibault et al. 2024 / Wang 2010 tables) or 'trochoid' "
+        "(the fillet cut by "
         "the rack tip, Sainsot root angle θ_f = b1/r)")
     rack_tip_radius_m: float | None = Field(
         None, gt=0, description="generating rack tip radius ρ_fP (m; trochoid fillet; default "
@@ -70,7 +71,8 @@ class WheelGeometry(_Model):
 
 
 class CrackConfig(_Model):
-    """Root crack (Thibault et al. 2024, eq 14): on ``gear`` side a/b of the pair, tooth index from 0."""
+    """Root crack (Thibault et al. 2024, eq 14): on ``gear`` side a/b of the pair, tooth index
+    from 0."""
 
     gear: Literal["a", "b"] = "b"
     tooth: StrictInt = Field(0, ge=0)
@@ -128,7 +130,8 @@ class GearGeometryConfig(_Model):
     )
     slice_coupling: bool = Field(
         False, description="couple the face slices of each tooth in the mesh stiffness tables "
-        "(Thibault et al. 2024, §2.2 unloaded-slice correction: two-parameter foundation, a partly loaded "
+        "(Thibault et al. 2024, §2.2 unloaded-slice correction: two-parameter foundation, a "
+        "partly loaded "
         "face is stiffer than its loaded slices alone); false = independent slices")
     slice_coupling_length_ratio: float | None = Field(
         None, gt=0, le=5, description="decay length of the slice coupling over the load height "

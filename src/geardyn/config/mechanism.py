@@ -178,7 +178,8 @@ class Bearing(BearingGeometry):
 
 
 class TurningPair(_Model):
-    """A turning pair (revolute joint) between two links on an axis level (Penaud et al. 2012, §2.1)."""
+    """A turning pair (revolute joint) between two links on an axis level (Penaud et al. 2012,
+    §2.1)."""
 
     links: tuple[str, str]
     axis: str | int = Field(
@@ -317,7 +318,8 @@ class BevelStage(_Model):
     """Two bevel wheels on intersecting fixed axes at ``shaft_angle_deg`` (default 90°).
 
     Pitch-cone angles follow from the tooth counts, ``tan δ_a = sin Σ/(N_b/N_a + cos Σ)``,
-    ``δ_b = Σ − δ_a``; the Penaud et al. 2012 weights are ``θ_a = −δ_a``, ``θ_b = +δ_b``, so the output
+    ``δ_b = Σ − δ_a``; the Penaud et al. 2012 weights are ``θ_a = −δ_a``, ``θ_b = +δ_b``, so the
+    output
     axis is turned by the shaft angle in the sketch plane. A negative shaft angle turns it the
     other way.
     """
@@ -349,7 +351,8 @@ class Mechanism(_Model):
     """A geared mechanism: general graph plus stage conveniences (Penaud et al. 2012, §2)."""
 
     name: str = "mechanism"
-    frame: str = Field(description="the fixed link (ω = 0), first row of M (Penaud et al. 2012, §2.4)")
+    frame: str = Field(description="the fixed link (ω = 0), first row of M (Penaud et al. "
+                       "2012, §2.4)")
     links: list[Annotated[Link, BeforeValidator(_link)]] = Field(default_factory=list)
     gear_pairs: list[GearPair] = Field(default_factory=list)
     turning_pairs: list[TurningPair] = Field(default_factory=list)

@@ -55,7 +55,8 @@ class MeshParams(_M):
     """Mesh stiffness along the line of action (N/m).
 
     ``constant``: k = stiffness_n_per_m. ``square``: k_max for the double-contact part of the
-    mesh cycle, k_min otherwise (Hammami 2015, eq 1.11). ``sine``: k = k_mean(1 + amplitude·sin 2πX).
+    mesh cycle, k_min otherwise (Hammami 2015, eq 1.11). ``sine``: k = k_mean(1 + amplitude·sin
+    2πX).
     ``seed004``: the piecewise-constant torsional stiffness of Wang 2010, ch. 5 (sun or ring mesh
     of the Wang 2010 gearbox, via :func:`geardyn.gears.seed004_params`) divided by the pinion base
     radius squared.

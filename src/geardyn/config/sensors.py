@@ -2,7 +2,8 @@
 
 Each sensor becomes a channel ``sensors.<name>`` of a simulation result (docs/results.md):
 
-* ``encoder``: IAS of a shaft by the elapsed-time method (Thibault et al. 2024, eq 1): ``pulses_per_rev``,
+* ``encoder``: IAS of a shaft by the elapsed-time method (Thibault et al. 2024, eq 1):
+  ``pulses_per_rev``,
   counter ``clock_hz`` (omit for an ideal clock), graduation errors (standard deviation
   ``graduation_error_rad``);
 * ``tacho``: once-per-rev (or ``pulses_per_rev``) pulse times of a shaft;

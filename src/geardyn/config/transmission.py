@@ -66,7 +66,8 @@ class BearingConfig(_Strict):
     flange_stiffness_n_per_m: float = Field(1e8, gt=0, description="roller: flange contact")
     youngs_modulus_pa: float = Field(206e9, gt=0)
     poisson_ratio: float = Field(0.3, gt=-1, lt=0.5)
-    viscous_torque_nms_per_rad: float = Field(0.0, ge=0, description="α_bea of Thibault et al. 2024, §3.1")
+    viscous_torque_nms_per_rad: float = Field(0.0, ge=0,
+                                              description="α_bea of Thibault et al. 2024, §3.1")
     rolling_resistance: float = Field(
         0.0, ge=0, description="torque per (Σ contact load × d_m/2), dimensionless"
     )
@@ -241,7 +242,8 @@ class MeshConfig(_Strict):
     squeeze_film_ns_per_m: float = Field(100.0, ge=0)
     table_points_per_cycle: int = Field(64, ge=8, le=1024)
     off_line_of_action: bool = Field(
-        True, description="extended contact outside the path (Thibault et al. 2024, §2.5.1; spur pairs)"
+        True, description="extended contact outside the path (Thibault et al. 2024, §2.5.1; "
+        "spur pairs)"
     )
     backlash_m: float | None = Field(
         None, ge=0, description="normal backlash along the line of action: tooth separation "

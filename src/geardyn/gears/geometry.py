@@ -147,7 +147,8 @@ class MeshGeometry:
     half_angle_base: tuple[float, float]
     """Half angular tooth thickness at the base circle (external: tooth; internal: space)."""
     slice_coupling: bool = False
-    """Couple the face slices in the mesh stiffness tables (Thibault et al. 2024, §2.2 unloaded-slice
+    """Couple the face slices in the mesh stiffness tables (Thibault et al. 2024, §2.2
+    unloaded-slice
     correction, :mod:`.slice_coupling`); off: independent slices."""
     slice_coupling_ratio: float | None = None
     """Decay length over load height λ/h of the slice coupling (None: √(0.8 − ν))."""

@@ -97,7 +97,8 @@ def reference_link(mesh: GearMesh, s: Mapping[str, set[str]]) -> str:
     if len(common) > 1:
         raise KinematicsError(
             f"gear pair '{mesh.name}' ({mesh.link_a}–{mesh.link_b}): two or more carriers "
-            f"{sorted(common)} — S_i ∩ S_j must be exactly one link (Penaud et al. 2012, eq 1); the turning "
+            f"{sorted(common)} — S_i ∩ S_j must be exactly one link (Penaud et al. 2012, eq 1); "
+            "the turning "
             "pairs put both gears on a common axis, or two axis levels are mislabelled"
         )
     return next(iter(common))
@@ -415,7 +416,8 @@ def axis_directions(graph: MechanismGraph, carriers: Sequence[str]) -> dict[str,
                         f"gear pair '{name}': its pitch angles put the axis of level "
                         f"'{groups[h][0]}' at {math.degrees(_half_turn(want)):.6g}° but other "
                         f"gear pairs put it at {math.degrees(_half_turn(phi[h])):.6g}° "
-                        "(Penaud et al. 2012, §2.2: θ_a + φ_a = θ_b + φ_b mod 180° in every gear pair); "
+                        "(Penaud et al. 2012, §2.2: θ_a + φ_a = θ_b + φ_b mod 180° in every "
+                        "gear pair); "
                         "check the pitch angles")
     axes = {graph.frame: 0.0}
     for link, parent in turning_tree(graph):

@@ -118,7 +118,8 @@ class ModalResult:
                 ep = self.strain / np.maximum(self.strain.sum(1, keepdims=True), 1e-300)
             tables["strain"] = (100 * ep[keep], labels, "spring [-]",
                                 "strain energy per spring"
-                                + (" (Hammami 2015, Table 3.5 layout)" if model is not None else ""))
+                                + (" (Hammami 2015, Table 3.5 layout)" if model is not None
+                                   else ""))
         return plot_mode_energies(self.freq_hz[keep], np.nonzero(keep)[0] + 1, tables, ax)
 
 

@@ -188,7 +188,8 @@ def seed002_figures(cfg, outdir: Path, nsc: bool = True) -> list[Path]:  # noqa:
         ax.set_ylim(0, 150)
         ax.set_xlabel("low-speed shaft angle [rev] (speed 200 → 900 rpm)")
         ax.set_ylabel("order [ev/rev]")
-        ax.set_title("low-speed shaft IAS angular spectrogram, NSC (cf. Thibault et al. 2024, Fig 9)")
+        ax.set_title("low-speed shaft IAS angular spectrogram, NSC "
+                     "(cf. Thibault et al. 2024, Fig 9)")
         save(fig, "transmission_nsc_spectrogram.png")
     fig, axs = plt.subplots(len(runs), 1, figsize=(10, 3.2 * len(runs)),
                             constrained_layout=True, squeeze=False)
@@ -196,7 +197,8 @@ def seed002_figures(cfg, outdir: Path, nsc: bool = True) -> list[Path]:  # noqa:
         ax.semilogy(s.order.values, s.values, lw=0.6, color="0.2")
         mark(ax, 80)
         ax.set_xlim(0, 80)
-        ax.set_title(f"low-speed shaft IAS order spectrum, {name} (cf. Thibault et al. 2024, Figs 10-11)")
+        ax.set_title(f"low-speed shaft IAS order spectrum, {name} "
+                     "(cf. Thibault et al. 2024, Figs 10-11)")
         ax.set_ylabel("amplitude [rad/s]")
     axs[-1, 0].set_xlabel("order [ev/rev of the low-speed shaft]; green: BPFO harmonics, "
                           "red/purple: low/high mesh ± BPFO")
