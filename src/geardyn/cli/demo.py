@@ -15,6 +15,8 @@ The sources, in the order the demo runs them (the same steps in both modes):
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -197,6 +199,33 @@ def _summaries(folder: Path) -> dict[str, Callable[[], list[str]]]:
     }
 
 
+#: Child process compiling the kernels of the diagnosis step: the healthy variant of the
+#: example simulated for 0.05 s (the same model, hence the same compiled signatures).
+_PRECOMPILE = """
+import sys, warnings
+warnings.simplefilter("ignore")
+from geardyn.config import load_config
+from geardyn.diagnosis.faults import healthy_variant
+from geardyn.run import run_simulation
+run_simulation(healthy_variant(load_config(sys.argv[1])), t_end_s=0.05, seed=0)
+"""
+
+
+def start_precompile(example: Path) -> subprocess.Popen | None:
+    """On an empty numba cache (a fresh clone), compile the diagnosis step's kernels in a
+    child process while the first steps print, so that the first run does not wait for the
+    compilation in series (Makefile ``first-run``); None when the kernels are cached. The
+    child's failure only means the diagnosis step compiles them itself."""
+    from geardyn.solve.integrate import _newmark_kernel
+
+    cache = getattr(_newmark_kernel, "_cache", None)
+    index = getattr(getattr(cache, "_cache_file", None), "_index_path", None)
+    if index is None or Path(index).is_file():
+        return None
+    return subprocess.Popen([sys.executable, "-c", _PRECOMPILE, str(example)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
 def _run(args: list[str]) -> None:
     from typer.main import get_command
 
@@ -264,30 +293,37 @@ def demo_cmd(
     if not folder.is_dir() or missing:
         raise InputError(f"--examples: '{folder}' is not an examples folder (needs "
                          f"{', '.join(missing or needed)})")
+    child = start_precompile(folder / DIAGNOSIS_EXAMPLE[0])
     summaries = _summaries(folder)
     try:  # command lines as typed from here (examples/… in a checkout)
         shown = folder.resolve().relative_to(Path.cwd().resolve())
     except ValueError:
         shown = folder
-    for i, source in enumerate(SOURCES, 1):
-        console.rule(f"[bold]{i}. {source.citation}: {source.subject}")
-        for name in source.kinematics:
-            if full:
-                console.rule(f"[dim]{name}", style="dim")
-                _full_kinematics(folder / name)
-            else:
-                console.print(kinematics_line(folder / name))
-        for line in source.commands:
-            args = line.format(ex=folder).split()
-            typed = line.format(ex=shown)
-            if full:
-                console.print(f"[dim]$ geardyn {escape(typed)}[/]", highlight=False)
-                _run(args)
-            else:
-                for text in summaries[line]():
-                    console.print(text)
-                console.print(f"[dim]  more: geardyn {escape(typed)}[/]",
-                              highlight=False)
-        if "diagnose" in source.extra:
-            _diagnose(folder, shown)
+    try:
+        for i, source in enumerate(SOURCES, 1):
+            console.rule(f"[bold]{i}. {source.citation}: {source.subject}")
+            for name in source.kinematics:
+                if full:
+                    console.rule(f"[dim]{name}", style="dim")
+                    _full_kinematics(folder / name)
+                else:
+                    console.print(kinematics_line(folder / name))
+            for line in source.commands:
+                args = line.format(ex=folder).split()
+                typed = line.format(ex=shown)
+                if full:
+                    console.print(f"[dim]$ geardyn {escape(typed)}[/]", highlight=False)
+                    _run(args)
+                else:
+                    for text in summaries[line]():
+                        console.print(text)
+                    console.print(f"[dim]  more: geardyn {escape(typed)}[/]",
+                                  highlight=False)
+            if "diagnose" in source.extra:
+                if child is not None:
+                    child.wait()
+                _diagnose(folder, shown)
+    finally:  # an error or Ctrl-C leaves no compiling child behind
+        if child is not None and child.poll() is None:
+            child.kill()
     print_next_steps()
