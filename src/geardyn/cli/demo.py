@@ -152,7 +152,7 @@ def planetary_modes_line(path: Path) -> str:
     frequencies and the highest (Lin & Parker form)."""
     from geardyn.config import load_config
     from geardyn.models.planetary.build import model_from_config
-    from geardyn.solve.modal import modes
+    from geardyn.models.planetary.modal import modes
 
     res = modes(model_from_config(load_config(path), None))
     rows = list(res.table())

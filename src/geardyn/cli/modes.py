@@ -103,8 +103,9 @@ def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa
                    n_modes: int, speed_of: str | None = None, prepared=None):  # noqa: ANN001, ANN201
     """Campbell DataArray (speed [unit], mode) in Hz of the model of ``kind``: FE (reference
     shaft ``speed_of``, default the speed law's), planetary (the carrier speed, Hammami 2015, eq
-    3.1 via :func:`geardyn.solve.modal.campbell`) or mechanism (the speed of body ``speed_of``,
-    default the first driven link, :func:`geardyn.models.core.modal.core_campbell`)."""
+    3.1 via :func:`geardyn.models.planetary.modal.campbell`) or mechanism (the speed of body
+    ``speed_of``, default the first driven link,
+    :func:`geardyn.models.core.modal.core_campbell`)."""
     rad = speeds * SPEED_UNITS[unit.lower()]
     if kind == "transmission":
         from geardyn.models.transmission.modal import fe_campbell
@@ -115,7 +116,7 @@ def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa
         cd = cd.rename({"speed_rpm": "speed"})
         cd["mode"] = np.arange(1, cd.sizes["mode"] + 1)
     elif kind == "planetary":
-        from geardyn.solve.modal import campbell
+        from geardyn.models.planetary.modal import campbell
 
         if speed_of is not None:
             raise InputError("--speed-of: the planetary model's Campbell speed is the carrier "
@@ -289,7 +290,7 @@ def modes_cmd(
         plot_model = None
     else:
         from geardyn.models.planetary.build import model_from_config
-        from geardyn.solve.modal import modes
+        from geardyn.models.planetary.modal import modes
 
         model = model_from_config(cfg, reduction)
         res = modes(model)
