@@ -123,8 +123,8 @@ def stiffness_lines(path: Path) -> list[str]:
     import numpy as np
 
     from geardyn.config import load_config
-    from geardyn.config.gears import pair_model, pair_names
     from geardyn.gears.pe_stiffness import mesh_stiffness
+    from geardyn.models.gear_pairs import pair_model, pair_names
 
     cfg = load_config(path)
     seen: dict[tuple, list[str]] = {}

@@ -424,7 +424,7 @@ def check_transmission(cfg) -> list[str]:  # noqa: ANN001 - GeardynConfig (avoid
     t: TransmissionConfig | None = getattr(cfg, "transmission", None)
     if t is None:
         return []
-    from geardyn.config.gears import pair_model  # noqa: PLC0415
+    from geardyn.models.gear_pairs import pair_model  # noqa: PLC0415
 
     problems: list[str] = []
     shafts = {s.name: s for s in t.shafts}
