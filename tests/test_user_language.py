@@ -131,3 +131,6 @@ def test_diagnosis_outputs_cite_authors(tmp_path, monkeypatch):
     report = (tmp_path / "d" / "report.html").read_text()
     report = re.sub(r'src="data:[^"]*"', "", report)  # embedded figures: base64, not text
     assert not _internal(report), _internal(report)
+    # levels in the analysed channel's unit show that unit, not "channel units"
+    table = report.split("Indicators and thresholds", 1)[1].split("<h2", 1)[0]
+    assert "channel units" not in table and "m/s" in table

@@ -677,13 +677,17 @@ def kinematics_section(freqs: CharacteristicFrequencies | None) -> str:
     return _section("Kinematics", *parts)
 
 
-def indicator_section(verdict: Verdict) -> str:
+def indicator_section(verdict: Verdict, channel_units: str | None = None) -> str:
     """All judged indicators with their unit, baseline statistics and thresholds; alarms
-    highlighted."""
+    highlighted. A level in the analysed channel's unit shows that unit (``channel_units``,
+    e.g. m/s²) when the channel states it."""
     df = verdict.indicator_table()
     if df.empty:
         return _section("Indicators and thresholds", _note("No indicator could be judged."))
-    df = df.assign(unit=[_unit_of(k) for k in df["indicator"]])
+    units = [_unit_of(k) for k in df["indicator"]]
+    if channel_units:
+        units = [channel_units if u == "channel units" else u for u in units]
+    df = df.assign(unit=units)
     alarms = list(df["alarm"])
     headers = dict(INDICATOR_COLUMNS)
     table = html_table(df, headers,
@@ -692,6 +696,14 @@ def indicator_section(verdict: Verdict) -> str:
         "Record value: median over the record's blocks of whole revolutions; baseline mean and "
         "std pooled over every block of every baseline record; threshold = mean + k·σ (two-sided"
         " indicators: |value − mean| > k·σ, margin = |value − mean|/(k·σ))."))
+
+
+def _channel_units(ds: xr.Dataset | None, channel: str | None) -> str | None:
+    """The stated unit of the analysed channel of a result (None when unknown)."""
+    if ds is None or not channel or f"sensors.{channel}" not in ds:
+        return None
+    unit = str(ds[f"sensors.{channel}"].attrs.get("units", "")).strip()
+    return unit or None
 
 
 def _unit_of(name: str) -> str:
@@ -894,7 +906,7 @@ def write_report(
         spectra_section(record, healthy, freqs, (fs, modes)),
         tsa_section(record, healthy, verdict),
         time_frequency_section(record_ds, channel, record, verdict, resolve_hz, teeth, modes),
-        indicator_section(verdict),
+        indicator_section(verdict, _channel_units(record_ds, channel)),
         explanations_section(verdict),
     ]
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
