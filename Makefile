@@ -35,8 +35,9 @@ run: $(STAMP)
 # runs beside it at low priority on the other core (log: .venv/warmup.log), so the first run
 # does not wait for kernels the demo never calls (benchmarks/bench_firstrun.py measures it).
 first-run:
-	@test -f $(WARM) || { (nice -n 10 $(BIN)/python -m geardyn.warmup > $(VENV)/warmup.log 2>&1 \
-		&& rm -f $(VENV)/.warm-* && touch $(WARM)) & }
+	@test -f $(WARM) || test -f $(VENV)/.warming || { (touch $(VENV)/.warming; \
+		nice -n 10 $(BIN)/python -m geardyn.warmup > $(VENV)/warmup.log 2>&1 \
+		&& rm -f $(VENV)/.warm-* && touch $(WARM); rm -f $(VENV)/.warming) & }
 	$(BIN)/geardyn demo
 
 test: $(WARM)
