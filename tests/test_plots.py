@@ -27,6 +27,7 @@ from geardyn.gears.pe_stiffness import mesh_stiffness  # noqa: E402
 from geardyn.gears.plot import plot_stiffness, stiffness_figure  # noqa: E402
 from geardyn.kinematics.frequencies import characteristic_frequencies  # noqa: E402
 from geardyn.models.planetary.build import model_from_config  # noqa: E402
+from geardyn.models.planetary.modal import modes  # noqa: E402
 from geardyn.plotting import plot_result  # noqa: E402
 from geardyn.results import LAYOUT, shaft_variables  # noqa: E402
 from geardyn.signal.annotate import KINDS, spectral_markers  # noqa: E402
@@ -40,7 +41,6 @@ from geardyn.signal.plots import (  # noqa: E402
     plot_waterfall,
 )
 from geardyn.signal.spectra import angular_spectrogram, order_spectrum, stft  # noqa: E402
-from geardyn.solve.modal import modes  # noqa: E402
 
 from .gears.seed002 import seed002_low  # noqa: E402
 

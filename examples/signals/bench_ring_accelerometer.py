@@ -1,8 +1,8 @@
-"""Synthetic ring-accelerometer record of the seed 003 back-to-back bench (example input for
+"""Synthetic ring-accelerometer record of the Hammami 2015 back-to-back bench (example input for
 ``geardyn analyze``).
 
 Motor (sun shaft) at 1498.5 rpm; carrier at 16/81 of it; test-ring accelerometer seeing the
-planet-pass modulated ring mesh (seed 003 eqs 4.10-4.13 with the gating fix), a small sun-shaft
+planet-pass modulated ring mesh (Hammami 2015, eqs 4.10-4.13 with the gating fix), a small sun-shaft
 once-per-rev component, white noise and a 16-bit ADC. A once-per-rev tacho on the motor shaft
 is stored with the signal. Usage::
 
@@ -28,7 +28,7 @@ DURATION = 8.0  # s
 def make(path: str | Path, seed: int = 0) -> Path:
     t = np.arange(int(FS * DURATION)) / FS
     theta_motor = 2 * np.pi * RPM / 60 * t
-    theta_carrier = theta_motor * 16 / 81  # seed 003 §4.1: sun → carrier 81/16
+    theta_carrier = theta_motor * 16 / 81  # Hammami 2015, §4.1: sun → carrier 81/16
     x = planet_pass_signal(theta_carrier, 3, 65, amplitudes=[1.0, 0.5, 0.3])
     x += 0.05 * np.cos(theta_motor + 0.4)
     y = accelerometer(x, noise_rms=0.1, bits=16, seed=seed)

@@ -1,4 +1,4 @@
-"""Detectability curves of the seed 004 fault data set (examples/sweeps/seed004_fault_dataset.toml):
+"""Detectability curves of the Wang 2010 fault data set (examples/sweeps/seed004_fault_dataset.toml):
 FM4 of the cracked member (sun, ring, planet 1) against crack size, mean ± 1 std over the three
 seeds, one panel per motor speed; the healthy cases (crack 0) start every curve. Prints the
 detection rate (verdict 'alarm' on the cracked member) per gear and severity.

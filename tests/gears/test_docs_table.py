@@ -27,10 +27,10 @@ ROOT = Path(__file__).resolve().parents[2]
 #: proportions (±10 %); the helical stage's PE is along the transverse line of action while
 #: ISO's c' carries cos β (−20 %…+10 %); the seed 002 low stage has deep teeth (−40 %…−25 %).
 ROWS = {
-    "seed 002 low": ("seed002_two_stage.toml", "low", -0.40, -0.25),
-    "seed 002 high": ("seed002_two_stage.toml", "high", -0.20, 0.10),
-    "seed 004 sun–planet": ("seed004_planetary.toml", "plan.sun-planet1", -0.10, 0.10),
-    "seed 004 ring–planet": ("seed004_planetary.toml", "plan.ring-planet1", -0.10, 0.10),
+    "Thibault et al. 2024 low": ("seed002_two_stage.toml", "low", -0.40, -0.25),
+    "Thibault et al. 2024 high": ("seed002_two_stage.toml", "high", -0.20, 0.10),
+    "Wang 2010 sun–planet": ("seed004_planetary.toml", "plan.sun-planet1", -0.10, 0.10),
+    "Wang 2010 ring–planet": ("seed004_planetary.toml", "plan.ring-planet1", -0.10, 0.10),
 }
 #: ISO 6336-1:2019 Table 9, C1..C9 (mm·µm/N)
 C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
@@ -82,7 +82,7 @@ def test_pe_mean_within_iso_band(label: str) -> None:
 def test_seed002_low_gap_is_the_deep_teeth() -> None:
     """Table 2's dedenda (1.5 m_n, 1.9 m_n) make the PE tooth softer than ISO assumes: with
     ISO proportions (h_a = 1, h_f = 1.25 m_n) the same pair is within ±10 % of ISO."""
-    g = _geometry("seed 002 low")
+    g = _geometry("Thibault et al. 2024 low")
     a = dataclasses.replace(g.a, tip_radius=None, root_radius=None)
     b = dataclasses.replace(g.b, tip_radius=None, root_radius=None)
     gi = mesh_geometry(a, b, g.normal_module, g.normal_pressure_angle, g.face_width)

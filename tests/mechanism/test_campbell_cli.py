@@ -134,7 +134,7 @@ def test_planetary_campbell_cli_equals_solve_modal(tmp_path) -> None:
     """Planetary (seed 003 eq 3.1): rows of `modes --campbell` (carrier speed in rpm) equal
     solve.modal.campbell at the same speeds in rad/s."""
     from geardyn.models.planetary.build import model_from_config
-    from geardyn.solve.modal import campbell
+    from geardyn.models.planetary.modal import campbell
 
     path = EX / "planetary_lin_parker.toml"
     r = runner.invoke(app, ["modes", str(path), "--campbell", "0:3000:3 rpm", "--out",

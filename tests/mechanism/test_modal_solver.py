@@ -201,7 +201,7 @@ def test_planetary_degenerate_pairs_and_sum_rule(lin_parker) -> None:  # noqa: A
     """Lin & Parker, N = 4 equal planets: translational modes in 6 degenerate pairs, every other
     mode simple; energies on the planetary assembly's own elements sum to ½ ω² (1e-9). A 1 %
     heavier planet splits the pairs (the grouping can tell)."""
-    from geardyn.solve.modal import modes
+    from geardyn.models.planetary.modal import modes
 
     model = lin_parker
     em = eigenmodes(model.mass_matrix(), model.stiffness_matrix())
@@ -251,9 +251,9 @@ def test_model_campbells_track_the_same_frequencies(lin_parker) -> None:  # noqa
     speed they are sorted."""
     from geardyn.models.core import model_from_config as core_model
     from geardyn.models.core.modal import core_campbell
+    from geardyn.models.planetary.modal import campbell as planetary_campbell
     from geardyn.models.transmission import build_model, prepare
     from geardyn.models.transmission.modal import fe_campbell
-    from geardyn.solve.modal import campbell as planetary_campbell
 
     speeds = np.array([0.0, 200.0, 600.0, 1500.0])
     cases = [(planetary_campbell, (lin_parker, speeds))]

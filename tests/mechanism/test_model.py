@@ -431,7 +431,7 @@ def test_campbell_of_the_lateral_stage_equals_lin_parker():
     """Frequencies against carrier speed with the carrier frame's G and K_Ω (seed 003 eq 3.1):
     the general lateral model gives solve.modal.campbell of the coupled Lin & Parker model."""
     from geardyn.models.core.modal import core_campbell
-    from geardyn.solve.modal import campbell
+    from geardyn.models.planetary.modal import campbell
 
     model = model_from_config(parse_config(_lateral_config(True)))
     rs, rp, rr, rc = _radii()

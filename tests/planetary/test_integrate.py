@@ -146,7 +146,7 @@ def test_pin_errors_in_simulation_shift_load_sharing():
 
 def test_modal_damping_ratio_recovered(lin_parker):
     """C = MΦ diag(2ζω)ΦᵀM: the damped eigenvalues have ζ = −Re λ/|λ| on every elastic mode."""
-    from geardyn.solve.modal import modes
+    from geardyn.models.planetary.modal import modes
 
     sys, _ = build_system(lin_parker, {}, modal_damping=0.03)
     n = sys.n

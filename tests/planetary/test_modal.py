@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from geardyn.models.planetary import ShaftSpec, StageSpec, assemble
-from geardyn.solve.modal import campbell, modes, strain_energy_table
+from geardyn.models.planetary.modal import campbell, modes, strain_energy_table
 
 
 def test_bench_high_band_carrier_pairs(bench36):

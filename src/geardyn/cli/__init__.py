@@ -30,7 +30,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
               "config's dynamic model (planetary, mechanism, FE)."),
     "simulate": ("geardyn.cli.simulate", "Time simulation of the config's dynamic model."),
     "transmission": ("geardyn.cli.transmission",
-                     "Alias of `simulate` for the FE transmission (seed 002), modes first."),
+                     "Alias of `simulate` for the FE transmission (Thibault et al. 2024), "
+                     "modes first."),
     "analyze": ("geardyn.cli.analyze",
                 "Order spectrum, spectrogram, TSA, cepstrum and indicators of a signal."),
     "diagnose": ("geardyn.cli.diagnose",

@@ -5,13 +5,15 @@ constant speed or tacho/encoder pulses), and writes: an annotated order spectrum
 the TSA of the reference shaft, its cepstrum, an indicator table and the marker table (figures
 as PNG, tables as CSV, the order spectrum as NetCDF). With ``--ias-ppr R`` the SIGNAL file holds
 encoder edge times [s] of the reference shaft instead, and the analysed signal is its IAS by
-the elapsed-time method (seed 002 eq 1), optionally latched on a ``--clock`` counter.
+the elapsed-time method (Thibault et al. 2024, eq 1), optionally latched on a ``--clock`` counter.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -36,6 +38,11 @@ from geardyn.cli.long_record import (
 from geardyn.config import load_config
 from geardyn.errors import InputError
 from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from geardyn.kinematics import CharacteristicFrequencies
 
 
 def _choose_spr(max_mesh_order: float, fs: float, f_ref_max: float) -> int:
@@ -76,7 +83,7 @@ def analyze(
     ),
     ias_ppr: int | None = typer.Option(
         None, "--ias-ppr", help="SIGNAL is encoder edge times [s] with this many pulses/rev: "
-        "analyse the IAS (elapsed-time method, seed 002 eq 1)"
+        "analyse the IAS (elapsed-time method, Thibault et al. 2024, eq 1)"
     ),
     clock: float | None = typer.Option(
         None, "--clock", help="counter clock [Hz] latching the encoder edges (--ias-ppr)"
@@ -99,27 +106,6 @@ def analyze(
                                "(its earlier files are removed, so no stale figure stays)"),
 ) -> None:
     """Order spectrum (annotated), spectrogram, TSA, cepstrum and indicators of a signal."""
-    from geardyn.sensors import elapsed_time_ias
-    from geardyn.signal import (
-        angular_spectrogram,
-        order_spectrum,
-        power_cepstrum,
-        resample_to_angle,
-        signal_indicators,
-        spectral_markers,
-        stft,
-        tsa,
-    )
-    from geardyn.signal.plots import (
-        plot_cepstrum,
-        plot_map,
-        plot_spectrum,
-        plot_tsa,
-        plot_waterfall,
-    )
-    from geardyn.signal.resample import angle_from_pulses
-    from geardyn.signal_io import SignalRecord, read_pulse_times, read_signal
-
     check_number(fs, "--fs", gt=0, le=1e9, unit="Hz")
     check_number(clock, "--clock", gt=0, le=1e12, unit="Hz")
     check_number(pulses_per_rev, "--ppr", ge=1, le=1e6)
@@ -132,7 +118,7 @@ def analyze(
     result = _open_result(signal)
     if result is None and getattr(cfg, "measurement", None) is not None and ias_ppr is None:
         result = _mapped_record(signal, cfg, speeds, tacho)
-    sim_channel = None
+    sim_channel = ref_angle = None
     if result is not None:
         sim_channel, ref_angle = _result_channel(result, channel, reference, fs, speeds, tacho,
                                                  ias_ppr, signal)
@@ -142,200 +128,14 @@ def analyze(
     for link, v in speeds.items():
         if v <= 0:
             raise InputError(f"--speed: {link} speed must be > 0 rpm, got {v:g}")
-
-    ias = None
-    if sim_channel is not None and sim_channel.sampling == "angle":  # simulated encoder IAS
-        ref = sim_channel.shaft
-        spr = int(sim_channel.pulses_per_rev or 1)
-        ias = sim_channel.values
-        samples = (ias, sim_channel.time, ref_angle)
-        label = (f"channel '{sim_channel.name}' of {signal.name} "
-                 f"({sim_channel.attrs.get('long_name', 'IAS')})")
-    elif ias_ppr is not None:  # ---- IAS of the reference shaft from encoder edge times
-        if ias_ppr < 1:
-            raise InputError(f"--ias-ppr: pulses per revolution must be >= 1, got {ias_ppr}")
-        ref = _reference(speeds, reference, cfg)
-        try:
-            edges = read_pulse_times(signal)
-        except InputError as exc:
-            raise InputError(f"--ias-ppr: SIGNAL must hold encoder edge times [s]: {exc}") from None
-        meas = elapsed_time_ias(edges, ias_ppr, clock)
-        spr = int(ias_ppr)
-        ias = meas.ias
-        samples = (meas.ias, meas.time, meas.angle)
-        label = f"IAS of '{ref}' ({ias_ppr} pulses/rev"
-        label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
-    if ias is not None:  # IAS: one sample per encoder interval, the angle grid itself
-        x_ang = raw = ias
-        rpm = 60.0 * float(np.mean(ias)) / (2 * np.pi)
-        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
-        max_valid = spr / 2.0
-        revolutions = x_ang.size / spr
-        start = 0
-        spectrogram = angular_spectrogram(
-            x_ang, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 8)),
-            speed=60.0 * x_ang / (2 * np.pi),
-        )
-        order_map = None
-        f_ref_max = float(np.max(ias)) / (2 * np.pi)
-    else:  # ---- time signal resampled to the reference angle
-        if sim_channel is not None:
-            rec = SignalRecord(sim_channel.values, float(sim_channel.sample_rate_hz),
-                               sim_channel.name, sim_channel.units)
-            pulses = None
-            ref = sim_channel.shaft
-            speeds = {ref: 60.0 * float(np.mean(np.gradient(ref_angle, sim_channel.time)))
-                      / (2 * np.pi)}
-        else:
-            rec = read_signal(signal, fs, channel, sensitivity=sensitivity,
-                              full_scale=full_scale)
-            pulses = read_pulse_times(tacho) if tacho is not None else None
-        if sim_channel is None and pulses is None and rec.pulse_times is not None:
-            if speeds:  # --speed with a tacho stored in the file: they must agree
-                tp = rec.pulse_times
-                check_speed_agrees(speeds, 60.0 * (tp.size - 1) / max(pulses_per_rev, 1)
-                                   / (tp[-1] - tp[0]), pulses_per_rev)
-            else:
-                pulses = rec.pulse_times
-        if pulses is None and not speeds:
-            raise InputError("--speed or --tacho: the reference shaft speed is needed")
-        ref = _reference(speeds, reference, cfg)
-        if pulses is None:
-            rpm = speeds[ref]
-            revs = rpm / 60.0 * rec.x.shape[0] / rec.fs
-            if revs < 1:
-                raise InputError(f"--speed: at {rpm:g} rpm the record ({rec.x.shape[0] / rec.fs:g} "
-                                 f"s) covers {revs:.3g} revolutions of '{ref}'; at least one "
-                                 "is needed (check the speed unit: rpm)")
-        else:
-            if pulses_per_rev < 1:
-                raise InputError(f"--ppr: pulses per revolution must be >= 1, got {pulses_per_rev}")
-            rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
-            if sim_channel is None:
-                from geardyn.io.speed import trim_pulses
-
-                origin = "--tacho" if tacho is not None else f"pulse_times of {signal.name}"
-                duration = (rec.x.size - 1) / rec.fs
-                kept = trim_pulses(pulses, 0.0, duration)  # a longer tacho: trimmed
-                tol = max(2.0 * float(np.max(np.diff(pulses))), 0.02 * duration)
-                if pulses[0] < -tol or pulses[-1] > duration + tol:
-                    console.print(
-                        f"[yellow]warning:[/] {origin}: the pulses span {pulses[0]:.6g}–"
-                        f"{pulses[-1]:.6g} s, the signal 0–{duration:.6g} s ({rec.x.size} "
-                        f"samples at {rec.fs:g} Hz): {kept.size} of {pulses.size} pulses "
-                        "kept; if the tacho and the signal were recorded together, check "
-                        "--fs")
-                pulses = kept
-                if pulses.size < 3:
-                    raise InputError(f"{origin}: fewer than 3 pulses fall within the signal "
-                                     f"(0–{(rec.x.size - 1) / rec.fs:.6g} s)")
-                rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
-                check_tacho_span(pulses, rec.x.size, rec.fs, origin)
-                check_speed_agrees(speeds, rpm, pulses_per_rev)
-        freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
-        max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
-        long = sim_channel is None and rec.x.shape[0] > LONG_SAMPLES
-        if sim_channel is not None:
-            angle = ref_angle
-            f_ref_max = float(np.max(np.gradient(ref_angle, sim_channel.time))) / (2 * np.pi)
-        elif pulses is None:
-            angle = None if long else 2 * np.pi * rpm / 60.0 * np.arange(rec.x.size) / rec.fs
-            f_ref_max = rpm / 60.0
-        else:
-            angle = None
-            f_ref_max = float(np.max(1.0 / np.diff(pulses))) / pulses_per_rev
-        spr = samples_per_rev or _choose_spr(max_mesh, rec.fs, f_ref_max)
-        if long:  # bounded memory: chunked order tracking (cli.long_record)
-            angle_of_time, i0, i1 = _angle_law(rpm, pulses, pulses_per_rev, rec.fs,
-                                               rec.x.shape[0])
-            sig = resample_chunked(rec.x, rec.fs, angle_of_time, spr, i0, i1)
-        elif angle is not None:
-            sig = resample_to_angle(rec.x, rec.fs, angle, samples_per_rev=spr)
-        else:
-            sig = resample_to_angle(rec.x, rec.fs, pulse_times=pulses,
-                                    pulses_per_rev=pulses_per_rev, samples_per_rev=spr)
-        x_ang, raw, max_valid, revolutions = sig.x, rec.x, sig.max_valid_order, sig.revolutions
-        order_map = None
-        if (pulses is not None or sim_channel is not None) and revolutions >= 16:
-            rpm_k = 60.0 / (spr * np.gradient(sig.time))
-            if rpm_k.max() > 1.05 * rpm_k.min():  # run-up / run-down: order–speed map
-                order_map = angular_spectrogram(
-                    sig.x, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 16)),
-                    speed=rpm_k,
-                )
-        start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
-        nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
-        label = f"{signal.name} ({rec.x.size} samples at {rec.fs:g} Hz)"
-        if long:
-            spectrogram = block_spectrogram(rec.x, rec.fs, nper)
-            e0, e1 = central_excerpt(i0, i1)
-            t_e = np.arange(e0, e1) / rec.fs
-            samples = (np.asarray(rec.x[e0:e1], dtype=float), t_e, angle_of_time(t_e))
-            console.print(f"[yellow]note:[/] long record: per-component indicators from its "
-                          f"central {t_e[0]:.6g}–{t_e[-1]:.6g} s ({e1 - e0} samples); order "
-                          "spectrum, TSA and raw indicators from the whole record")
-        else:
-            spectrogram = stft(rec.x, rec.fs, nperseg=nper)
-        if not long:
-            t_s = np.arange(rec.x.size) / rec.fs
-            if angle is not None:
-                samples = (rec.x, t_s, angle)
-            else:
-                inside = (t_s >= pulses[0]) & (t_s <= pulses[-1])
-                samples = (rec.x[inside], t_s[inside],
-                           angle_from_pulses(pulses, t_s[inside], pulses_per_rev))
-        if sim_channel is not None:
-            label = f"channel '{sim_channel.name}' of {label}"
-
-    if revolutions < 1:
-        raise InputError(f"{label}: the record covers {revolutions:.2f} revolutions of '{ref}'; "
-                         "at least one is needed (record longer or choose a faster shaft)")
-    max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
-    if max_mesh > max_valid:
-        console.print(
-            f"[yellow]warning:[/] mesh order {max_mesh:.4g} is beyond the valid order range "
-            f"(≤ {max_valid:.4g}); increase --samples-per-rev (or the encoder resolution)"
-        )
-    # the channel's units on every amplitude axis ("rad/s" for an IAS)
-    units = ("rad/s" if ias is not None else
-             (sim_channel.units if sim_channel is not None else rec.units)) or "unit not stated"
-    spec = order_spectrum(x_ang, spr)
-    spec.attrs["units"] = units
-    markers = spectral_markers(freqs)
-    xmax = min(max_valid, spr / 2, 3.3 * max_mesh)
-    figs = {
-        "order_spectrum.png": plot_spectrum(
-            spec, markers, xmax, f"Order spectrum of {label} around the meshes, orders of "
-            f"'{ref}' at {rpm:.6g} rpm", units=units)
-    }
-    if ias is None:  # the whole band the sensor records, up to its Nyquist frequency
-        from geardyn.diagnosis.report import sensor_band, sensor_band_figure
-
-        band = sensor_band(min(max_valid, float(spec["order"].values[-1])), rpm / 60.0,
-                           rec.fs)
-        figs["order_spectrum_band.png"] = sensor_band_figure(spec, None, band, markers, ref)
-    # spectrograms over the whole recorded band (Nyquist), not an order range below it
-    spectrogram.attrs["units"] = units
-    figs["spectrogram.png"] = plot_map(spectrogram, title="Spectrogram", units=units)
-    if order_map is not None:
-        order_map.attrs["units"] = units
-        omax = min(max_valid, float(order_map["order"].values[-1]))
-        figs["order_speed_map.png"] = plot_map(order_map, ymax=omax, title="Order–speed map",
-                                               units=units)
-        figs["waterfall.png"] = plot_waterfall(order_map, ymax=omax, title="Waterfall")
-    raw_indicators = (chunked_indicators(raw) if raw.shape[0] > LONG_SAMPLES
-                      else signal_indicators(raw))
-    rows = [{"signal": "raw", "component": "", "kind": "", **raw_indicators}]
-    if x_ang.size - start >= spr:
-        avg = tsa(x_ang[start:], spr)
-        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)",
-                                   units=units)
-        rows.append({"signal": f"TSA {ref} (reference grid)", "component": "", "kind": "",
-                     **signal_indicators(avg)})
-    rows += _component_rows(cfg, ref, samples, label, figs, units)
-    cep = power_cepstrum(x_ang - x_ang.mean(), spr)
-    figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, revolutions / 2),
-                                         title="Power cepstrum (quefrency in revolutions)")
+    source = _ias_source(sim_channel, ref_angle, signal, speeds, reference, cfg, ias_ppr, clock)
+    if source is not None:
+        sig = _ias_on_angle(kin, *source)
+    else:
+        sig = _signal_on_angle(kin, cfg, signal, sim_channel, ref_angle, speeds, reference, fs,
+                               channel, sensitivity, full_scale, tacho, pulses_per_rev,
+                               samples_per_rev)
+    figs, rows, spec, markers = _report(cfg, sig)
     from geardyn.checkpoint import write_atomic, write_text
     from geardyn.plotting import save_figure
 
@@ -347,13 +147,303 @@ def analyze(
         write_atomic(folder / "order_spectrum.nc",
                      lambda tmp: spec.to_netcdf(tmp, engine="scipy"))
     console.print(
-        f"[bold]{label}[/]: reference '{ref}' {rpm:.6g} rpm; {revolutions:.1f} revs at {spr} "
-        f"samples/rev (orders ≤ {max_valid:.4g} valid)"
+        f"[bold]{sig.label}[/]: reference '{sig.ref}' {sig.rpm:.6g} rpm; "
+        f"{sig.revolutions:.1f} revs at {sig.spr} samples/rev (orders ≤ {sig.max_valid:.4g} "
+        "valid)"
     )
     top = spec.where(spec["order"] > 0.5, 0).to_series().nlargest(5)
     console.print("largest orders: " + ", ".join(f"{o:.4g} ({a:.3g})" for o, a in top.items()))
     console.print(f"wrote {', '.join(sorted(figs))}, indicators.csv, markers.csv, "
                   f"order_spectrum.nc to {out}/")
+
+
+@dataclass
+class AngleSignal:
+    """The analysed signal on the angle grid of the reference shaft and what the report
+    needs of it (one per record: an encoder IAS or a time signal resampled to the angle)."""
+
+    ref: str
+    """Reference link (order 1)."""
+    rpm: float
+    """Mean speed of the reference [rpm]."""
+    freqs: CharacteristicFrequencies
+    """Characteristic frequencies at that speed, orders of ``ref``."""
+    spr: int
+    """Angular samples per revolution."""
+    x_ang: np.ndarray
+    """The signal on the angle grid."""
+    raw: np.ndarray
+    """The signal as recorded (its raw indicators)."""
+    max_valid: float
+    """Highest valid order."""
+    revolutions: float
+    """Revolutions of ``ref`` on the grid."""
+    start: int
+    """First grid sample at a whole revolution (TSA start)."""
+    spectrogram: xr.DataArray
+    order_map: xr.DataArray | None
+    """Order–speed map of a run-up / run-down (None at a steady speed)."""
+    samples: tuple
+    """(values, time [s], reference angle [rad]) for the per-component TSAs."""
+    label: str
+    units: str
+    """The channel's unit on every amplitude axis ("rad/s" for an IAS)."""
+    fs: float | None = None
+    """Sample rate [Hz] of a time signal (None for an IAS)."""
+
+
+def _ias_source(sim_channel, ref_angle, signal: Path, speeds: dict[str, float],  # noqa: ANN001
+                reference: str | None, cfg, ias_ppr: int | None,  # noqa: ANN001
+                clock: float | None) -> tuple | None:
+    """An IAS to analyse, (ias [rad/s], samples per rev, samples, label, reference link): a
+    simulated encoder channel, or encoder edge times (``--ias-ppr``) by the elapsed-time
+    method (Thibault et al. 2024, eq 1); None for a time signal."""
+    from geardyn.sensors import elapsed_time_ias
+    from geardyn.signal_io import read_pulse_times
+
+    if sim_channel is not None and sim_channel.sampling == "angle":  # simulated encoder IAS
+        label = (f"channel '{sim_channel.name}' of {signal.name} "
+                 f"({sim_channel.attrs.get('long_name', 'IAS')})")
+        return (sim_channel.values, int(sim_channel.pulses_per_rev or 1),
+                (sim_channel.values, sim_channel.time, ref_angle), label, sim_channel.shaft)
+    if ias_ppr is None:
+        return None
+    if ias_ppr < 1:
+        raise InputError(f"--ias-ppr: pulses per revolution must be >= 1, got {ias_ppr}")
+    ref = _reference(speeds, reference, cfg)
+    try:
+        edges = read_pulse_times(signal)
+    except InputError as exc:
+        raise InputError(f"--ias-ppr: SIGNAL must hold encoder edge times [s]: {exc}") from None
+    meas = elapsed_time_ias(edges, ias_ppr, clock)
+    label = f"IAS of '{ref}' ({ias_ppr} pulses/rev"
+    label += f", {clock:g} Hz clock)" if clock else ", ideal clock)"
+    return meas.ias, int(ias_ppr), (meas.ias, meas.time, meas.angle), label, ref
+
+
+def _ias_on_angle(kin, ias: np.ndarray, spr: int, samples: tuple, label: str,  # noqa: ANN001
+                  ref: str) -> AngleSignal:
+    """An IAS: one sample per encoder interval, the angle grid itself."""
+    from geardyn.signal import angular_spectrogram
+
+    rpm = 60.0 * float(np.mean(ias)) / (2 * np.pi)
+    revolutions = ias.size / spr
+    spectrogram = angular_spectrogram(
+        ias, spr, revs_per_segment=max(1.0, min(8.0, revolutions / 8)),
+        speed=60.0 * ias / (2 * np.pi),
+    )
+    return AngleSignal(ref, rpm, characteristic_frequencies(kin, {ref: rpm}, order_reference=ref),
+                       spr, ias, ias, spr / 2.0, revolutions, 0, spectrogram, None, samples,
+                       label, "rad/s")
+
+
+def _pulses_and_speed(cfg, signal: Path, sim_channel, ref_angle, speeds: dict[str, float],  # noqa: ANN001
+                      reference: str | None, fs: float | None, channel: str | None,
+                      sensitivity: str | None, full_scale: str | None, tacho: Path | None,
+                      pulses_per_rev: int) -> tuple:
+    """The time record, its tacho pulse times [s] (None at a stated constant speed), the
+    reference link and its mean speed [rpm], after the checks of the record against the
+    speed source (pulses within the record, speeds that agree, at least one revolution)."""
+    from geardyn.signal_io import SignalRecord, read_pulse_times, read_signal
+
+    if sim_channel is not None:
+        rec = SignalRecord(sim_channel.values, float(sim_channel.sample_rate_hz),
+                           sim_channel.name, sim_channel.units)
+        pulses = None
+        ref = sim_channel.shaft
+        speeds = {ref: 60.0 * float(np.mean(np.gradient(ref_angle, sim_channel.time)))
+                  / (2 * np.pi)}
+    else:
+        rec = read_signal(signal, fs, channel, sensitivity=sensitivity,
+                          full_scale=full_scale)
+        pulses = read_pulse_times(tacho) if tacho is not None else None
+    if sim_channel is None and pulses is None and rec.pulse_times is not None:
+        if speeds:  # --speed with a tacho stored in the file: they must agree
+            tp = rec.pulse_times
+            check_speed_agrees(speeds, 60.0 * (tp.size - 1) / max(pulses_per_rev, 1)
+                               / (tp[-1] - tp[0]), pulses_per_rev)
+        else:
+            pulses = rec.pulse_times
+    if pulses is None and not speeds:
+        raise InputError("--speed or --tacho: the reference shaft speed is needed")
+    ref = _reference(speeds, reference, cfg)
+    if pulses is None:
+        rpm = speeds[ref]
+        revs = rpm / 60.0 * rec.x.shape[0] / rec.fs
+        if revs < 1:
+            raise InputError(f"--speed: at {rpm:g} rpm the record ({rec.x.shape[0] / rec.fs:g} "
+                             f"s) covers {revs:.3g} revolutions of '{ref}'; at least one "
+                             "is needed (check the speed unit: rpm)")
+        return rec, pulses, ref, rpm
+    if pulses_per_rev < 1:
+        raise InputError(f"--ppr: pulses per revolution must be >= 1, got {pulses_per_rev}")
+    rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
+    if sim_channel is None:
+        from geardyn.io.speed import trim_pulses
+
+        origin = "--tacho" if tacho is not None else f"pulse_times of {signal.name}"
+        duration = (rec.x.size - 1) / rec.fs
+        kept = trim_pulses(pulses, 0.0, duration)  # a longer tacho: trimmed
+        tol = max(2.0 * float(np.max(np.diff(pulses))), 0.02 * duration)
+        if pulses[0] < -tol or pulses[-1] > duration + tol:
+            console.print(
+                f"[yellow]warning:[/] {origin}: the pulses span {pulses[0]:.6g}–"
+                f"{pulses[-1]:.6g} s, the signal 0–{duration:.6g} s ({rec.x.size} "
+                f"samples at {rec.fs:g} Hz): {kept.size} of {pulses.size} pulses "
+                "kept; if the tacho and the signal were recorded together, check "
+                "--fs")
+        pulses = kept
+        if pulses.size < 3:
+            raise InputError(f"{origin}: fewer than 3 pulses fall within the signal "
+                             f"(0–{(rec.x.size - 1) / rec.fs:.6g} s)")
+        rpm = 60.0 * (pulses.size - 1) / pulses_per_rev / (pulses[-1] - pulses[0])
+        check_tacho_span(pulses, rec.x.size, rec.fs, origin)
+        check_speed_agrees(speeds, rpm, pulses_per_rev)
+    return rec, pulses, ref, rpm
+
+
+def _signal_on_angle(kin, cfg, signal: Path, sim_channel, ref_angle,  # noqa: ANN001
+                     speeds: dict[str, float], reference: str | None, fs: float | None,
+                     channel: str | None, sensitivity: str | None, full_scale: str | None,
+                     tacho: Path | None, pulses_per_rev: int,
+                     samples_per_rev: int | None) -> AngleSignal:
+    """A time signal resampled to the angle of the reference shaft (order tracking; chunked
+    for a long record), its spectrogram and, in a run-up / run-down, its order–speed map."""
+    from geardyn.signal import angular_spectrogram, resample_to_angle, stft
+    from geardyn.signal.resample import angle_from_pulses
+
+    rec, pulses, ref, rpm = _pulses_and_speed(cfg, signal, sim_channel, ref_angle, speeds,
+                                              reference, fs, channel, sensitivity, full_scale,
+                                              tacho, pulses_per_rev)
+    freqs = characteristic_frequencies(kin, {ref: rpm}, order_reference=ref)
+    max_mesh = float(freqs.meshes["mesh_order"].max()) if len(freqs.meshes) else 50.0
+    long = sim_channel is None and rec.x.shape[0] > LONG_SAMPLES
+    if sim_channel is not None:
+        angle = ref_angle
+        f_ref_max = float(np.max(np.gradient(ref_angle, sim_channel.time))) / (2 * np.pi)
+    elif pulses is None:
+        angle = None if long else 2 * np.pi * rpm / 60.0 * np.arange(rec.x.size) / rec.fs
+        f_ref_max = rpm / 60.0
+    else:
+        angle = None
+        f_ref_max = float(np.max(1.0 / np.diff(pulses))) / pulses_per_rev
+    spr = samples_per_rev or _choose_spr(max_mesh, rec.fs, f_ref_max)
+    if long:  # bounded memory: chunked order tracking (cli.long_record)
+        angle_of_time, i0, i1 = _angle_law(rpm, pulses, pulses_per_rev, rec.fs,
+                                           rec.x.shape[0])
+        sig = resample_chunked(rec.x, rec.fs, angle_of_time, spr, i0, i1)
+    elif angle is not None:
+        sig = resample_to_angle(rec.x, rec.fs, angle, samples_per_rev=spr)
+    else:
+        sig = resample_to_angle(rec.x, rec.fs, pulse_times=pulses,
+                                pulses_per_rev=pulses_per_rev, samples_per_rev=spr)
+    order_map = None
+    if (pulses is not None or sim_channel is not None) and sig.revolutions >= 16:
+        rpm_k = 60.0 / (spr * np.gradient(sig.time))
+        if rpm_k.max() > 1.05 * rpm_k.min():  # run-up / run-down: order–speed map
+            order_map = angular_spectrogram(
+                sig.x, spr, revs_per_segment=max(1.0, min(8.0, sig.revolutions / 16)),
+                speed=rpm_k,
+            )
+    start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
+    nper = int(2 ** math.floor(math.log2(max(16, min(rec.x.size // 8, rec.fs)))))
+    label = f"{signal.name} ({rec.x.size} samples at {rec.fs:g} Hz)"
+    if long:
+        spectrogram = block_spectrogram(rec.x, rec.fs, nper)
+        e0, e1 = central_excerpt(i0, i1)
+        t_e = np.arange(e0, e1) / rec.fs
+        samples = (np.asarray(rec.x[e0:e1], dtype=float), t_e, angle_of_time(t_e))
+        console.print(f"[yellow]note:[/] long record: per-component indicators from its "
+                      f"central {t_e[0]:.6g}–{t_e[-1]:.6g} s ({e1 - e0} samples); order "
+                      "spectrum, TSA and raw indicators from the whole record")
+    else:
+        spectrogram = stft(rec.x, rec.fs, nperseg=nper)
+        t_s = np.arange(rec.x.size) / rec.fs
+        if angle is not None:
+            samples = (rec.x, t_s, angle)
+        else:
+            inside = (t_s >= pulses[0]) & (t_s <= pulses[-1])
+            samples = (rec.x[inside], t_s[inside],
+                       angle_from_pulses(pulses, t_s[inside], pulses_per_rev))
+    if sim_channel is not None:
+        label = f"channel '{sim_channel.name}' of {label}"
+    units = (sim_channel.units if sim_channel is not None else rec.units) or "unit not stated"
+    return AngleSignal(ref, rpm, freqs, spr, sig.x, rec.x, sig.max_valid_order,
+                       sig.revolutions, start, spectrogram, order_map, samples, label, units,
+                       rec.fs)
+
+
+def _report(cfg, sig: AngleSignal) -> tuple[dict, list[dict], xr.DataArray, pd.DataFrame]:  # noqa: ANN001
+    """Figures (name → figure), indicator rows, order spectrum and marker table of ``sig``:
+    the order spectrum around the meshes and over the sensor's band, the spectrogram, the
+    order–speed map and waterfall of a run-up, the TSA of the reference and of each component,
+    the power cepstrum; warns when the mesh orders exceed the valid range."""
+    from geardyn.signal import (
+        order_spectrum,
+        power_cepstrum,
+        signal_indicators,
+        spectral_markers,
+        tsa,
+    )
+    from geardyn.signal.plots import (
+        plot_cepstrum,
+        plot_map,
+        plot_spectrum,
+        plot_tsa,
+        plot_waterfall,
+    )
+
+    ref, spr, units, max_valid = sig.ref, sig.spr, sig.units, sig.max_valid
+    if sig.revolutions < 1:
+        raise InputError(f"{sig.label}: the record covers {sig.revolutions:.2f} revolutions of "
+                         f"'{ref}'; at least one is needed (record longer or choose a faster "
+                         "shaft)")
+    max_mesh = float(sig.freqs.meshes["mesh_order"].max()) if len(sig.freqs.meshes) else 50.0
+    if max_mesh > max_valid:
+        console.print(
+            f"[yellow]warning:[/] mesh order {max_mesh:.4g} is beyond the valid order range "
+            f"(≤ {max_valid:.4g}); increase --samples-per-rev (or the encoder resolution)"
+        )
+    spec = order_spectrum(sig.x_ang, spr)
+    spec.attrs["units"] = units
+    markers = spectral_markers(sig.freqs)
+    xmax = min(max_valid, spr / 2, 3.3 * max_mesh)
+    figs = {
+        "order_spectrum.png": plot_spectrum(
+            spec, markers, xmax, f"Order spectrum of {sig.label} around the meshes, orders of "
+            f"'{ref}' at {sig.rpm:.6g} rpm", units=units)
+    }
+    if sig.fs is not None:  # the whole band the sensor records, up to its Nyquist frequency
+        from geardyn.diagnosis.report import sensor_band, sensor_band_figure
+
+        band = sensor_band(min(max_valid, float(spec["order"].values[-1])), sig.rpm / 60.0,
+                           sig.fs)
+        figs["order_spectrum_band.png"] = sensor_band_figure(spec, None, band, markers, ref)
+    # spectrograms over the whole recorded band (Nyquist), not an order range below it
+    sig.spectrogram.attrs["units"] = units
+    figs["spectrogram.png"] = plot_map(sig.spectrogram, title="Spectrogram", units=units)
+    if sig.order_map is not None:
+        sig.order_map.attrs["units"] = units
+        omax = min(max_valid, float(sig.order_map["order"].values[-1]))
+        figs["order_speed_map.png"] = plot_map(sig.order_map, ymax=omax,
+                                               title="Order–speed map", units=units)
+        figs["waterfall.png"] = plot_waterfall(sig.order_map, ymax=omax, title="Waterfall")
+    raw = sig.raw
+    raw_indicators = (chunked_indicators(raw) if raw.shape[0] > LONG_SAMPLES
+                      else signal_indicators(raw))
+    rows = [{"signal": "raw", "component": "", "kind": "", **raw_indicators}]
+    x_ang, start = sig.x_ang, sig.start
+    if x_ang.size - start >= spr:
+        avg = tsa(x_ang[start:], spr)
+        figs["tsa.png"] = plot_tsa(avg, f"TSA of '{ref}' ({(x_ang.size - start) // spr} revs)",
+                                   units=units)
+        rows.append({"signal": f"TSA {ref} (reference grid)", "component": "", "kind": "",
+                     **signal_indicators(avg)})
+    rows += _component_rows(cfg, ref, sig.samples, sig.label, figs, units)
+    cep = power_cepstrum(x_ang - x_ang.mean(), spr)
+    figs["cepstrum.png"] = plot_cepstrum(cep, qmax=min(5.0, sig.revolutions / 2),
+                                         title="Power cepstrum (quefrency in revolutions)")
+    return figs, rows, spec, markers
 
 
 def _angle_law(rpm: float, pulses: np.ndarray | None, pulses_per_rev: int, fs: float,

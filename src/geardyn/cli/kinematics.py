@@ -90,7 +90,7 @@ def render_kinematics(
         + f"; orders per rev of '{freqs.order_reference}' ({freqs.reference_hz:.6g} Hz)"
     )
     print_df(out, freqs.links, "Links (ratio: velocity ratio to each input, polar form)")
-    print_df(out, freqs.meshes, "Gear pairs (carrier = reference link, seed 000 eq 1)")
+    print_df(out, freqs.meshes, "Gear pairs (carrier = reference link, Penaud et al. 2012, eq 1)")
     print_df(out, freqs.wheels, "Wheels: tooth-fault frequency (one tooth, all meshes)")
     if not freqs.planet_pass.empty:
         print_df(out, freqs.planet_pass, "Planet pass")
@@ -102,7 +102,7 @@ def render_kinematics(
 
 def kinematics_json(analysis: KinematicAnalysis, freqs: CharacteristicFrequencies) -> dict:
     """The frequencies as plain JSON numbers: each link's velocity ratio to each input as
-    ``{"real", "imag", "magnitude", "angle_deg"}`` (seed 000 eq 5; real for planar
+    ``{"real", "imag", "magnitude", "angle_deg"}`` (Penaud et al. 2012, eq 5; real for planar
     mechanisms, complex for bevel/spatial ones) instead of the table's display string."""
     out = freqs.to_dict()
     inputs = list(freqs.inputs_rpm)

@@ -99,7 +99,7 @@ def block_spectrogram(x: np.ndarray, fs: float, nperseg: int, max_columns: int =
 
 def chunked_indicators(x: np.ndarray, chunk: int = CHUNK) -> dict[str, float]:
     """:func:`geardyn.signal.signal_indicators` (RMS, peak, crest factor, kurtosis, skewness;
-    seed 003 eqs 1.21-1.24) from moments accumulated chunk by chunk: central moments about the
+    Hammami 2015, eqs 1.21-1.24) from moments accumulated chunk by chunk: central moments about the
     mean of a first pass, so the sums stay well conditioned."""
     n = x.shape[0]
     if n < 2:

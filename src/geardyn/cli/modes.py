@@ -1,7 +1,8 @@
 """``geardyn modes CONFIG`` — natural frequencies, mode types and energies of the config's
-dynamic model: the planetary model (``[planetary_dynamics]``, seed 003 ch. 3), the general
+dynamic model: the planetary model (``[planetary_dynamics]``, Hammami 2015, ch. 3), the general
 model of any mechanism (``[dynamics]``, docs/dynamics.md) or the FE shaft lines
-(``[transmission]``, seed 002, linearised at the static preload), with optional mode-shape /
+(``[transmission]``, Thibault et al. 2024, linearised at the static preload), with optional
+mode-shape /
 energy plots and a Campbell table (``--campbell "0:3000:7 rpm"``: frequencies against speed with
 the gyroscopic terms); ``--out DIR`` writes modes.nc, modes.png and, with ``--campbell``,
 campbell.csv and campbell.png."""
@@ -101,9 +102,10 @@ def parse_speeds(spec: str) -> tuple[np.ndarray, str]:
 def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa: ANN001
                    n_modes: int, speed_of: str | None = None, prepared=None):  # noqa: ANN001, ANN201
     """Campbell DataArray (speed [unit], mode) in Hz of the model of ``kind``: FE (reference
-    shaft ``speed_of``, default the speed law's), planetary (the carrier speed, seed 003 eq
-    3.1 via :func:`geardyn.solve.modal.campbell`) or mechanism (the speed of body ``speed_of``,
-    default the first driven link, :func:`geardyn.models.core.modal.core_campbell`)."""
+    shaft ``speed_of``, default the speed law's), planetary (the carrier speed, Hammami 2015, eq
+    3.1 via :func:`geardyn.models.planetary.modal.campbell`) or mechanism (the speed of body
+    ``speed_of``, default the first driven link,
+    :func:`geardyn.models.core.modal.core_campbell`)."""
     rad = speeds * SPEED_UNITS[unit.lower()]
     if kind == "transmission":
         from geardyn.models.transmission.modal import fe_campbell
@@ -114,11 +116,11 @@ def campbell_table(kind: str, cfg, model, speeds: np.ndarray, unit: str,  # noqa
         cd = cd.rename({"speed_rpm": "speed"})
         cd["mode"] = np.arange(1, cd.sizes["mode"] + 1)
     elif kind == "planetary":
-        from geardyn.solve.modal import campbell
+        from geardyn.models.planetary.modal import campbell
 
         if speed_of is not None:
             raise InputError("--speed-of: the planetary model's Campbell speed is the carrier "
-                             "speed (seed 003 eq 3.1); leave --speed-of out")
+                             "speed (Hammami 2015, eq 3.1); leave --speed-of out")
         cd = campbell(model, rad, n_modes).rename({"carrier_speed": "speed"})
         of = "carrier"
     else:
@@ -160,8 +162,34 @@ def print_campbell(cd) -> None:  # noqa: ANN001
     console.print(t)
 
 
-def write_campbell(cd, out: Path) -> list[Path]:  # noqa: ANN001
-    """campbell.csv (header with units) and campbell.png (frequency [Hz] against speed)."""
+def campbell_orders(cfg, speed_of: str) -> list[tuple[float, str]]:  # noqa: ANN001
+    """Excitation orders of a Campbell diagram, per revolution of ``speed_of``: once and twice
+    per revolution and, when the config's kinematics relate the link ``speed_of`` to its
+    meshes (Penaud, Alazard & Amiez 2012), every distinct mesh order. (order, label) pairs."""
+    orders = [(1.0, "order 1"), (2.0, "order 2")]
+    try:
+        from geardyn.kinematics import analyze_kinematics, characteristic_frequencies
+
+        kin = analyze_kinematics(cfg)
+        freqs = characteristic_frequencies(kin, dict(cfg.input_speeds_rpm),
+                                           order_reference=speed_of)
+    except Exception:  # noqa: BLE001 - no kinematics for this link: the 1× and 2× lines only
+        return orders
+    seen: dict[float, list[str]] = {}
+    for pair, order in zip(freqs.meshes["pair"], freqs.meshes["mesh_order"], strict=True):
+        if np.isfinite(order) and order > 0:
+            seen.setdefault(round(float(order), 4), []).append(str(pair))
+    for order, pairs in sorted(seen.items()):
+        names = f"mesh {', '.join(pairs)}" if len(pairs) <= 2 else f"{len(pairs)} meshes"
+        orders.append((order, f"order {order:g} ({names})"))
+    return orders
+
+
+def write_campbell(cd, out: Path, orders: list[tuple[float, str]] | None = None  # noqa: ANN001
+                   ) -> list[Path]:
+    """campbell.csv (header with units) and campbell.png (frequency [Hz] against speed, with
+    the excitation ``orders`` as lines f = order × speed, default once and twice per
+    revolution; a mode crossing a line is a possible resonance)."""
     from geardyn.checkpoint import write_text
     from geardyn.plotting import save_figure
 
@@ -174,15 +202,20 @@ def write_campbell(cd, out: Path) -> list[Path]:  # noqa: ANN001
     write_text(csv, "\n".join(lines) + "\n")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = plt.subplots(figsize=(9, 5), layout="constrained")
     for j, m in enumerate(modes):
         ax.plot(cd["speed"].values, cd.values[:, j], "o-", ms=3, lw=1, label=f"mode {m}")
+    speed = cd["speed"].values
+    rev_per_s = np.abs(speed) * SPEED_UNITS[unit.lower()] / (2.0 * math.pi)
+    top = float(np.nanmax(cd.values)) * 1.05 if np.isfinite(cd.values).any() else 1.0
+    for order, label in orders if orders is not None else [(1.0, "order 1"), (2.0, "order 2")]:
+        ax.plot(speed, order * rev_per_s, "--", lw=0.8, color="0.4", label=label)
+    ax.set_ylim(0.0, top if top > 0 else 1.0)
     ax.set_xlabel(f"speed of {cd.attrs['speed_of']} [{unit}]")
     ax.set_ylabel("natural frequency [Hz]")
-    ax.set_title("Campbell diagram (gyroscopic terms included)")
+    ax.set_title("Campbell diagram (gyroscopic terms included; dashed: excitation orders)")
     ax.grid(alpha=0.3)
-    if len(modes) <= 12:
-        ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     png = out / "campbell.png"
     save_figure(fig, png)
     return [csv, png]
@@ -257,7 +290,7 @@ def modes_cmd(
         plot_model = None
     else:
         from geardyn.models.planetary.build import model_from_config
-        from geardyn.solve.modal import modes
+        from geardyn.models.planetary.modal import modes
 
         model = model_from_config(cfg, reduction)
         res = modes(model)
@@ -298,5 +331,6 @@ def modes_cmd(
             save_figure(res.plot(model=plot_model, max_hz=max_hz), folder / "modes.png")
             names = ["modes.nc", "modes.png"]
             if cd is not None:
-                names += [p.name for p in write_campbell(cd, folder)]
+                orders = campbell_orders(cfg, cd.attrs["speed_of"])
+                names += [p.name for p in write_campbell(cd, folder, orders)]
         console.print(f"wrote {', '.join(names)} to {out}/")

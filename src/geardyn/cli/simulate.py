@@ -50,7 +50,8 @@ def simulate_cmd(
     """Simulate run-up/run-down/stationary operation; writes shaft angles and speeds, mesh
     forces, model states and the sensor channels.
 
-    The FE transmission (\\[transmission], seed 002) runs here too; `geardyn transmission` is
+    The FE transmission (\\[transmission], Thibault et al. 2024) runs here too;
+    `geardyn transmission` is
     its alias (with the modal table first).
 
     Exit codes: 0 ok; 2 bad input; 3 the run ended diverged, suspect, stopped or reversed

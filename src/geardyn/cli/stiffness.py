@@ -17,8 +17,8 @@ from geardyn.cli.common import (
     renamed_option,
 )
 from geardyn.config import load_config
-from geardyn.config.gears import pair_model, pair_names
 from geardyn.errors import ConfigError
+from geardyn.models.gear_pairs import pair_model, pair_names
 
 
 def summary_row(key: str, value: float) -> tuple[str, str]:

@@ -1,7 +1,7 @@
 """Configuration: TOML files validated by pydantic; the same objects are usable from Python.
 
 A config file describes a machine. The mechanism (links, gear pairs, turning pairs, bearings,
-stages; seed 000) sits at the top level; analysis-specific sections are optional tables.
+stages; Penaud et al. 2012) sits at the top level; analysis-specific sections are optional tables.
 """
 
 from geardyn.config.loader import GeardynConfig, format_validation_error, load_config, parse_config

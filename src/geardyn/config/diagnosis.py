@@ -41,23 +41,23 @@ class EnsembleSpec(BaseModel):
         DEFAULT_MEMBERS, ge=1, le=64,
         description="dynamic runs of the healthy baseline (their seeds are "
         "diagnosis.baseline_seeds when given, else 0 … members − 1). Default 6: with 2 "
-        "measurements each and the default 2 blocks of the seed 004 example, 24 pooled samples "
+        "measurements each and the default 2 blocks of the Wang 2010 example, 24 pooled samples "
         "per indicator, where the small-sample factor of the threshold rule is ≈ 1.14 (1.34 at "
-        "12); chosen so that `geardyn diagnose` of the seed 004 example stays under 60 s on one "
+        "12); chosen so that `geardyn diagnose` of the Wang 2010 example stays under 60 s on one "
         "core (a judgement of cost against spread)")
     measurements_per_run: int = Field(
         2, ge=1, le=16,
         description="sensor variants (transfer path, sensitivity, noise) measured on each "
         "dynamic run; the sensors act after the dynamics, so a measurement costs ≈ 0.1 s "
-        "against ≈ 3 s for a run of the seed 004 example. Default 2: doubles the samples of "
+        "against ≈ 3 s for a run of the Wang 2010 example. Default 2: doubles the samples of "
         "the sensor-side spread at no dynamic cost (judgement)")
     seed: int = Field(0, ge=0, description="seed of the perturbation draws (the run seeds "
-                      "drive the noise and the seed 004 random impulse errors)")
+                      "drive the noise and the Wang 2010 random impulse errors)")
     speed_tolerance: float = Field(
         0.02, ge=0, le=0.5,
         description="relative ± of every stated input speed (uniform). Default 2 %: an "
-        "induction motor on the mains runs between no-load and rated slip (5 % for the seed "
-        "004 motor, 950 of 1000 rpm) and its supply frequency may stray ±1 % (EN 50160, 50 Hz "
+        "induction motor on the mains runs between no-load and rated slip (5 % for the Wang "
+        "2010 motor, 950 of 1000 rpm) and its supply frequency may stray ±1 % (EN 50160, 50 Hz "
         "± 1 % during 99.5 % of a year); HUMS acquisitions are gated on a speed window of a few "
         "per cent (judgement)")
     load_tolerance: float = Field(
@@ -68,7 +68,7 @@ class EnsembleSpec(BaseModel):
     error_scale_tolerance: float = Field(
         0.5, ge=0, le=1,
         description="relative ± of the configured manufacturing-error amplitudes (uniform, "
-        "one factor per run): seed 004 random impulse errors random_error_max_m, configured "
+        "one factor per run): Wang 2010 random impulse errors random_error_max_m, configured "
         "planet pin errors pin_errors_m, FE unbalances mass_eccentricity_kg_m. Default 50 %: a "
         "gear of a given ISO 1328-1 accuracy class has errors anywhere below its tolerance, "
         "and adjacent classes differ by √2 (ISO 1328-1:2013 §5.2); judgement")
@@ -77,7 +77,7 @@ class EnsembleSpec(BaseModel):
         description="± tangential planet pin position error (m, uniform, independent per "
         "planet; added to any configured pin_errors_m; planetary stages). Default 10 µm: a "
         "carrier bored to the accuracy of its gears; ISO 1328-1 single pitch tolerance of the "
-        "seed 004 sun (m_n ≈ 16 mm, d ≈ 304 mm) is ≈ 11 µm in class 5 and ≈ 15 µm in class 6 "
+        "Wang 2010 sun (m_n ≈ 16 mm, d ≈ 304 mm) is ≈ 11 µm in class 5 and ≈ 15 µm in class 6 "
         "(ISO 1328-1:1995 f_pt = 0.3(m_n + 0.4√d) + 4 µm × 2^((Q−5)/2)); judgement")
     bearing_clearance_tolerance: float = Field(
         0.3, ge=0, lt=1,

@@ -59,7 +59,8 @@ class MeshDynamics(_M):
     face_width_m: float | None = Field(None, gt=0, description="face width (m)")
     model: Literal["constant", "sine", "square", "gear_geometry"] = Field(
         "constant", description="constant k; sine k̄(1 + amplitude sin 2πX); square wave with the "
-        "contact ratio (k_double = 2 k_single, seed 003 eq 1.11); gear_geometry: the PE table of "
+        "contact ratio (k_double = 2 k_single, Hammami 2015, eq 1.11); gear_geometry: the PE "
+        "table of "
         "the pair's [[gear_geometry]] entry")
     stiffness_n_per_m: float | None = Field(
         None, gt=0, description="mean mesh stiffness along the line of action (N/m); default "
@@ -193,7 +194,7 @@ class DynamicsSimulation(_M):
     contact_loss: bool = Field(False, description="mesh force 0 when the deflection is < 0 "
                                "(meshes without backlash_m; a backlash implies it)")
     gyroscopic: bool = Field(False, description="lateral model: gyroscopic and centripetal "
-                             "terms of each carrier frame at its current speed (seed 003 eq "
+                             "terms of each carrier frame at its current speed (Hammami 2015, eq "
                              "3.1)")
     rayleigh_alpha: float = Field(0.0, ge=0, description="C += α M (1/s)")
     rayleigh_beta: float = Field(0.0, ge=0, description="C += β K_mean (s)")

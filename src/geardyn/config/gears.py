@@ -17,19 +17,11 @@ newton-metres (``*_nm``). Bevel stages are not supported (cylindrical gears only
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, StrictInt
 
 from geardyn.errors import ConfigError
-
-if TYPE_CHECKING:
-    from geardyn.gears.faults import Crack, Spall
-    from geardyn.gears.geometry import MeshGeometry
-    from geardyn.gears.loaded import Corrections
 
 
 class _Model(BaseModel):
@@ -53,7 +45,8 @@ class WheelGeometry(_Model):
     tip_round_m: float = Field(0.0, ge=0, description="tip edge round radius (m)")
     root_fillet: Literal["involute", "trochoid"] = Field(
         "involute", description="flank below the involute in the PE stiffness: 'involute' "
-        "(extended to the root, as the seed 002/004 tables) or 'trochoid' (the fillet cut by "
+        "(extended to the root, as the Thibault et al. 2024 / Wang 2010 tables) or 'trochoid' "
+        "(the fillet cut by "
         "the rack tip, Sainsot root angle θ_f = b1/r)")
     rack_tip_radius_m: float | None = Field(
         None, gt=0, description="generating rack tip radius ρ_fP (m; trochoid fillet; default "
@@ -70,7 +63,8 @@ class WheelGeometry(_Model):
 
 
 class CrackConfig(_Model):
-    """Root crack (seed 002 eq 14): on ``gear`` side a/b of the pair, tooth index from 0."""
+    """Root crack (Thibault et al. 2024, eq 14): on ``gear`` side a/b of the pair, tooth index
+    from 0."""
 
     gear: Literal["a", "b"] = "b"
     tooth: StrictInt = Field(0, ge=0)
@@ -84,7 +78,7 @@ class CrackConfig(_Model):
 
 
 class SpallConfig(_Model):
-    """Rectangular spall (seed 002 eq 13)."""
+    """Rectangular spall (Thibault et al. 2024, eq 13)."""
 
     gear: Literal["a", "b"] = "b"
     tooth: StrictInt = Field(0, ge=0)
@@ -128,7 +122,8 @@ class GearGeometryConfig(_Model):
     )
     slice_coupling: bool = Field(
         False, description="couple the face slices of each tooth in the mesh stiffness tables "
-        "(seed 002 §2.2 unloaded-slice correction: two-parameter foundation, a partly loaded "
+        "(Thibault et al. 2024, §2.2 unloaded-slice correction: two-parameter foundation, a "
+        "partly loaded "
         "face is stiffer than its loaded slices alone); false = independent slices")
     slice_coupling_length_ratio: float | None = Field(
         None, gt=0, le=5, description="decay length of the slice coupling over the load height "
@@ -136,20 +131,10 @@ class GearGeometryConfig(_Model):
         "slice_coupling = true")
 
 
-@dataclass(frozen=True)
-class PairModel:
-    """A resolved pair: geometry plus faults and corrections, ready for the physics modules."""
-
-    name: str
-    geometry: MeshGeometry
-    faults: tuple[Crack | Spall, ...]
-    corrections: Corrections
-    torque: float | None
-    swapped: bool
-    """True when the mechanism's side a (internal) became the model's side b."""
-
-
-def _matches(entry: str, mesh_name: str, stage: str | None) -> bool:
+def matches(entry: str, mesh_name: str, stage: str | None) -> bool:
+    """Whether the ``pair`` name of an entry designates the mesh ``mesh_name`` (of planetary
+    stage ``stage``): the mesh's own name, or ``'<stage>.sun-planet'`` /
+    ``'<stage>.ring-planet'`` for every planet of the stage."""
     if entry == mesh_name:
         return True
     if stage is not None and mesh_name.startswith(entry):
@@ -158,169 +143,11 @@ def _matches(entry: str, mesh_name: str, stage: str | None) -> bool:
     return False
 
 
-def _build(cfg_entry: GearGeometryConfig, mesh, label: str) -> PairModel:  # noqa: ANN001
-    from geardyn.gears.faults import Crack, Spall
-    from geardyn.gears.geometry import GearBlank, Material, mesh_geometry
-    from geardyn.gears.loaded import Corrections, TipRelief
-
-    internal_a = abs(mesh.theta_a) > math.pi / 2
-    internal_b = abs(mesh.theta_b) > math.pi / 2
-
-    def blank(w: WheelGeometry, teeth: int, internal: bool) -> GearBlank:
-        return GearBlank(
-            teeth=teeth,
-            internal=internal,
-            profile_shift=w.profile_shift,
-            addendum_coef=w.addendum_coef,
-            dedendum_coef=w.dedendum_coef,
-            tip_radius=w.tip_radius_m,
-            root_radius=w.root_radius_m,
-            rim_radius=w.rim_radius_m,
-            tip_round=w.tip_round_m,
-            form_radius=w.form_radius_m,
-            root_fillet=w.root_fillet,
-            rack_tip_radius=w.rack_tip_radius_m,
-            material=Material(w.youngs_modulus_pa, w.poisson_ratio, w.density_kg_m3),
-        )
-
-    wa, wb = cfg_entry.a, cfg_entry.b
-    ba = blank(wa, mesh.teeth_a, internal_a)
-    bb = blank(wb, mesh.teeth_b, internal_b)
-    swapped = internal_a
-    if swapped:
-        ba, bb, wa, wb = bb, ba, wb, wa
-    if wa.normal_module_m is not None and abs(wa.normal_module_m - cfg_entry.normal_module_m) > 0:
-        raise ConfigError(
-            f"gear pair '{label}': the pinion module must equal normal_module_m (set the other "
-            "wheel's normal_module_m to model a different tool)"
-        )
-    geom = mesh_geometry(
-        ba,
-        bb,
-        cfg_entry.normal_module_m,
-        math.radians(cfg_entry.normal_pressure_angle_deg),
-        cfg_entry.face_width_m,
-        math.radians(cfg_entry.helix_angle_deg),
-        label=label,
-        module_b=wb.normal_module_m,
-        pressure_angle_b=(
-            math.radians(wb.normal_pressure_angle_deg)
-            if wb.normal_pressure_angle_deg is not None
-            else None
-        ),
-    )
-
-    for k, (w, b, name) in enumerate(((wa, ba, "a"), (wb, bb, "b"))):
-        rim, root = w.rim_radius_m, geom.root_radius[k]
-        if rim is None:
-            continue
-        side_name = ("b" if name == "a" else "a") if swapped else name
-        if not b.internal and rim >= root:
-            raise ConfigError(
-                f"gear pair '{label}': {side_name}.rim_radius_m {rim:g} m (the bore of an "
-                f"external gear) must be below its root radius {root:.6g} m")
-        if b.internal and rim <= root:
-            raise ConfigError(
-                f"gear pair '{label}': {side_name}.rim_radius_m {rim:g} m (the outer rim of an "
-                f"internal gear) must be above its root radius {root:.6g} m")
-    if cfg_entry.slice_coupling_length_ratio is not None and not cfg_entry.slice_coupling:
-        raise ConfigError(
-            f"gear pair '{label}': slice_coupling_length_ratio is set but slice_coupling is "
-            "false (set slice_coupling = true or remove the ratio)"
-        )
-    if cfg_entry.slice_coupling:
-        from geardyn.gears.slice_coupling import with_slice_coupling
-
-        geom = with_slice_coupling(geom, True, cfg_entry.slice_coupling_length_ratio)
-
-    def side(s: str) -> Literal["a", "b"]:
-        if not swapped:
-            return s  # type: ignore[return-value]
-        return "b" if s == "a" else "a"
-
-    faults: list[Crack | Spall] = []
-    teeth = {"a": mesh.teeth_a, "b": mesh.teeth_b}
-    for i, c in enumerate(cfg_entry.cracks):
-        if c.tooth >= teeth[c.gear]:
-            raise ConfigError(
-                f"gear pair '{label}': cracks[{i}].tooth {c.tooth} must be < {teeth[c.gear]} "
-                f"(teeth of side {c.gear})"
-            )
-        if c.width_m is not None and c.width_m > cfg_entry.face_width_m:
-            raise ConfigError(f"gear pair '{label}': cracks[{i}].width_m exceeds the face width")
-        faults.append(
-            Crack(
-                side(c.gear),
-                c.tooth,
-                c.depth_m,
-                math.radians(c.angle_deg),
-                c.radius_m,
-                c.width_m,
-                c.law,
-            )
-        )
-    for i, s in enumerate(cfg_entry.spalls):
-        if s.tooth >= teeth[s.gear]:
-            raise ConfigError(
-                f"gear pair '{label}': spalls[{i}].tooth {s.tooth} must be < {teeth[s.gear]}"
-            )
-        faults.append(
-            Spall(
-                side(s.gear),
-                s.tooth,
-                s.radius_m,
-                s.radial_width_m,
-                s.depth_m,
-                s.axial_position_m,
-                s.axial_length_m,
-            )
-        )
-    # faults must be able to act: spall band within the contact zone, crack inside the tooth
-    u_ends = np.array([geom.u_start, geom.u_end])
-    r_contact = geom.contact_radii(u_ends)
-    for i, f in enumerate(faults):
-        k = 0 if f.gear == "a" else 1
-        lo, hi = sorted(float(x) for x in r_contact[k])
-        kind = "cracks" if isinstance(f, Crack) else "spalls"
-        idx = i if kind == "cracks" else i - len(cfg_entry.cracks)
-        if isinstance(f, Spall):
-            if f.radius + f.radial_width / 2 < lo or f.radius - f.radial_width / 2 > hi:
-                raise ConfigError(
-                    f"gear pair '{label}': spalls[{idx}].radius_m {f.radius * 1e3:.3f} mm "
-                    f"(± {f.radial_width * 5e2:.3f} mm) is outside the contact zone of that "
-                    f"wheel ({lo * 1e3:.3f} to {hi * 1e3:.3f} mm): it would never be in contact"
-                )
-            if f.axial_position is not None and not 0 <= f.axial_position <= geom.face_width:
-                raise ConfigError(
-                    f"gear pair '{label}': spalls[{idx}].axial_position_m must lie on the face "
-                    f"(0 to {geom.face_width} m)"
-                )
-        else:
-            rr = (geom.root_radius[k], geom.tip_radius[k])
-            if f.radius is not None and not min(rr) <= f.radius <= max(rr):
-                raise ConfigError(
-                    f"gear pair '{label}': cracks[{idx}].radius_m must lie between the root and "
-                    f"tip radii ({min(rr) * 1e3:.3f} to {max(rr) * 1e3:.3f} mm)"
-                )
-            from geardyn.errors import InputError
-            from geardyn.gears.pe_stiffness import tooth_compliance
-
-            try:
-                tooth_compliance(geom, k, np.array([0.5 * (lo + hi)]), f.depth, f)
-            except InputError as exc:
-                raise ConfigError(f"gear pair '{label}': cracks[{idx}]: {exc}") from None
-    corr = Corrections(
-        tuple(
-            TipRelief(side(t.gear), t.amount_m, t.start_radius_m, t.shape)
-            for t in cfg_entry.tip_reliefs
-        ),
-        cfg_entry.lead_crowning_m,
-        cfg_entry.profile_crowning_m,
-    )
-    return PairModel(label, geom, tuple(faults), corr, cfg_entry.torque_nm, swapped)
+_matches = matches  # the name used before the builder moved out
 
 
-def _meshes(cfg):  # noqa: ANN001, ANN202
+def mechanism_meshes(cfg):  # noqa: ANN001, ANN202
+    """The meshes of the config's mechanism graph and the names of its bevel stages."""
     from geardyn.config.mechanism import BevelStage
 
     bevel = {st.name for st in cfg.bevel if isinstance(st, BevelStage)}
@@ -332,14 +159,14 @@ def check_gear_geometry(cfg) -> list[str]:  # noqa: ANN001
     problems: list[str] = []
     if not cfg.gear_geometry:
         return problems
-    meshes, bevel = _meshes(cfg)
+    meshes, bevel = mechanism_meshes(cfg)
     seen: dict[str, int] = {}
     for i, entry in enumerate(cfg.gear_geometry):
         where = f"gear_geometry[{i}] (pair '{entry.pair}')"
         if entry.pair in bevel:
             problems.append(f"{where}: bevel stages are not supported (cylindrical gears only)")
             continue
-        matched = [m for m in meshes if _matches(entry.pair, m.name, m.stage)]
+        matched = [m for m in meshes if matches(entry.pair, m.name, m.stage)]
         if not matched:
             names = ", ".join(m.name for m in meshes)
             problems.append(f"{where}: no gear pair of that name (known: {names})")
@@ -350,36 +177,23 @@ def check_gear_geometry(cfg) -> list[str]:  # noqa: ANN001
                     f"{where}: pair '{m.name}' already has geometry (gear_geometry[{seen[m.name]}])"
                 )
             seen[m.name] = i
+        from geardyn.models.gear_pairs import build_pair  # the builder checks what it builds
+
         try:
-            _build(entry, matched[0], matched[0].name)
+            build_pair(entry, matched[0], matched[0].name)
         except ConfigError as exc:
             problems.extend(f"gear_geometry[{i}]: {p}" for p in exc.problems)
     return problems
 
 
-def pair_names(cfg) -> list[str]:  # noqa: ANN001
-    """Names of the gear pairs that have geometry in the config."""
-    meshes, _ = _meshes(cfg)
-    out = []
-    for m in meshes:
-        if any(_matches(e.pair, m.name, m.stage) for e in cfg.gear_geometry):
-            out.append(m.name)
-    return out
+#: Names that moved to the builder :mod:`geardyn.models.gear_pairs` (the config layer
+#: describes, the builder builds); reached here only by old imports, resolved on first use.
+_MOVED = ("PairModel", "pair_model", "pair_names")
 
 
-def pair_model(cfg, name: str) -> PairModel:  # noqa: ANN001
-    """Resolve gear pair ``name`` of a loaded config into a :class:`PairModel`."""
-    meshes, _ = _meshes(cfg)
-    by_name = {m.name: m for m in meshes}
-    if name not in by_name:
-        raise ConfigError(
-            f"--pair '{name}': no gear pair of that name (known: {', '.join(by_name)})"
-        )
-    mesh = by_name[name]
-    for entry in cfg.gear_geometry:
-        if _matches(entry.pair, mesh.name, mesh.stage):
-            return _build(entry, mesh, name)
-    have = ", ".join(pair_names(cfg)) or "none"
-    raise ConfigError(
-        f"gear pair '{name}' has no [[gear_geometry]] entry (pairs with geometry: {have})"
-    )
+def __getattr__(name: str):  # noqa: ANN202 - module attribute hook (PEP 562)
+    if name in _MOVED:
+        from geardyn.models import gear_pairs
+
+        return getattr(gear_pairs, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

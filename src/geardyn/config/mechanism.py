@@ -1,6 +1,6 @@
 """Mechanism description (the ``[mechanism]`` part of a geardyn config), validated by pydantic.
 
-The general form follows seed 000 §2: named links, gear pairs with tooth counts and pitch
+The general form follows Penaud et al. 2012, §2: named links, gear pairs with tooth counts and pitch
 angles (complex weights ``N·e^{iθ}``), turning pairs grouped by axis level, the frame link and
 optional rolling bearings. Conveniences (planetary, parallel and bevel stages) expand into the
 same graph (:meth:`Mechanism.graph`).
@@ -70,7 +70,7 @@ def _link(v: object) -> object:
 
 
 class GearSide(_Model):
-    """One side of a gear pair: the wheel on ``link`` (seed 000 §2.2)."""
+    """One side of a gear pair: the wheel on ``link`` (Penaud et al. 2012, §2.2)."""
 
     link: str = Field(description="link carrying this wheel")
     teeth: Teeth
@@ -78,7 +78,7 @@ class GearSide(_Model):
     pitch_angle_deg: float | None = Field(
         None,
         description="pitch angle θ (deg, positive clockwise) from the gear axis to the tooth axis "
-        "in contact; default 0 for external, 180 for internal gears (seed 000 §2.2)",
+        "in contact; default 0 for external, 180 for internal gears (Penaud et al. 2012, §2.2)",
     )
     wheel: str | None = Field(
         None, description="name of the toothed wheel (default '<link>/z<teeth>')"
@@ -93,12 +93,12 @@ class GearSide(_Model):
             if self.internal and a <= 90:
                 raise ValueError(
                     f"pitch_angle_deg {self.pitch_angle_deg}: an internal gear needs "
-                    "90 < |θ| ≤ 180 (seed 000 §2.2)"
+                    "90 < |θ| ≤ 180 (Penaud et al. 2012, §2.2)"
                 )
             if not self.internal and a >= 90:
                 raise ValueError(
                     f"pitch_angle_deg {self.pitch_angle_deg}: an external gear needs |θ| < 90 "
-                    "(seed 000 §2.2); set internal = true for an internal gear"
+                    "(Penaud et al. 2012, §2.2); set internal = true for an internal gear"
                 )
         return self
 
@@ -115,7 +115,7 @@ class GearSide(_Model):
 
 
 class GearPair(_Model):
-    """A gear pair between two links (general form, seed 000 §2.2)."""
+    """A gear pair between two links (general form, Penaud et al. 2012, §2.2)."""
 
     name: str | None = Field(None, description="pair name (default 'a-b')")
     a: GearSide
@@ -178,12 +178,13 @@ class Bearing(BearingGeometry):
 
 
 class TurningPair(_Model):
-    """A turning pair (revolute joint) between two links on an axis level (seed 000 §2.1)."""
+    """A turning pair (revolute joint) between two links on an axis level (Penaud et al. 2012,
+    §2.1)."""
 
     links: tuple[str, str]
     axis: str | int = Field(
         description="axis level: turning pairs on the same level and touching form a multiple "
-        "turning pair (seed 000 §2.1)"
+        "turning pair (Penaud et al. 2012, §2.1)"
     )
 
     @field_validator("links")
@@ -317,7 +318,8 @@ class BevelStage(_Model):
     """Two bevel wheels on intersecting fixed axes at ``shaft_angle_deg`` (default 90°).
 
     Pitch-cone angles follow from the tooth counts, ``tan δ_a = sin Σ/(N_b/N_a + cos Σ)``,
-    ``δ_b = Σ − δ_a``; the seed 000 weights are ``θ_a = −δ_a``, ``θ_b = +δ_b``, so the output
+    ``δ_b = Σ − δ_a``; the Penaud et al. 2012 weights are ``θ_a = −δ_a``, ``θ_b = +δ_b``, so the
+    output
     axis is turned by the shaft angle in the sketch plane. A negative shaft angle turns it the
     other way.
     """
@@ -337,7 +339,7 @@ class BevelStage(_Model):
         return self
 
     def pitch_angles(self) -> tuple[float, float]:
-        """(θ_a, θ_b) in radians, seed 000 sign convention."""
+        """(θ_a, θ_b) in radians, Penaud et al. 2012 sign convention."""
         sigma = math.radians(abs(self.shaft_angle_deg))
         da = math.atan2(math.sin(sigma), self.b.teeth / self.a.teeth + math.cos(sigma))
         db = sigma - da
@@ -346,10 +348,11 @@ class BevelStage(_Model):
 
 
 class Mechanism(_Model):
-    """A geared mechanism: general graph plus stage conveniences (seed 000 §2)."""
+    """A geared mechanism: general graph plus stage conveniences (Penaud et al. 2012, §2)."""
 
     name: str = "mechanism"
-    frame: str = Field(description="the fixed link (ω = 0), first row of M (seed 000 §2.4)")
+    frame: str = Field(description="the fixed link (ω = 0), first row of M (Penaud et al. "
+                       "2012, §2.4)")
     links: list[Annotated[Link, BeforeValidator(_link)]] = Field(default_factory=list)
     gear_pairs: list[GearPair] = Field(default_factory=list)
     turning_pairs: list[TurningPair] = Field(default_factory=list)
@@ -391,90 +394,115 @@ class Mechanism(_Model):
         return problems
 
     def _expand(self) -> tuple[MechanismGraph, list[str]]:
-        problems: list[str] = []
-        declared = [lk.name for lk in self.links]
+        """The mechanism graph (links, meshes, turning pairs, bearings, planetary sets) of
+        this description and its problems, one message per problem, in declaration order
+        (Penaud et al. 2012, §2: links, turning pairs grouped by axis level, gear pairs)."""
+        g = _GraphExpansion(self)
+        g.general_form()
+        g.fixed_axis_stages()
+        g.planetary_stages()
+        g.check_fixed_axis_pairs_not_coaxial()
+        g.mounted_bearings()
+        g.held_links_and_inputs()
+        graph = g.graph()
+        g.check_carriers(graph)
+        return graph, g.problems
+
+
+class _GraphExpansion:
+    """The expansion of a :class:`Mechanism` into its :class:`MechanismGraph`, section by
+    section, collecting every problem (one message each, naming the item) instead of stopping
+    at the first.
+
+    Axis levels are labels joined by a union-find: a stage saying "these links are coaxial"
+    merges the labels they already carry, so a shaft shared by several stages keeps one axis
+    whatever the declaration order (issue 11). Labels typed by the user (turning pairs, a
+    stage's ``axis``) are never merged with each other: that stays an error."""
+
+    def __init__(self, mech: Mechanism) -> None:
+        self.mech = mech
+        self.problems: list[str] = []
+        declared = [lk.name for lk in mech.links]
         seen: set[str] = set()
         for name in declared:
             if name in seen:
-                problems.append(f"links: duplicate link name '{name}'")
+                self.problems.append(f"links: duplicate link name '{name}'")
             seen.add(name)
-        links = list(dict.fromkeys(declared))
-        known = set(links)
-        if self.frame not in known:
-            problems.append(f"frame: unknown link '{self.frame}' (declare it under links)")
+        self.links = list(dict.fromkeys(declared))
+        self.known = set(self.links)
+        if mech.frame not in self.known:
+            self.problems.append(f"frame: unknown link '{mech.frame}' (declare it under links)")
+        self.meshes: list[GearMesh] = []
+        self.joints: list[TurningJoint] = []
+        self.bearings: list[RollingBearing] = []
+        self.psets: list[PlanetarySet] = []
+        self.pair_names: set[str] = set()
+        self.joint_axis: dict[frozenset[str], str] = {}
+        self.parent: dict[str, str] = {}
+        self.explicit: set[str] = {str(tp.axis) for tp in mech.turning_pairs}
+        self.explicit |= {st.axis for st in mech.planetary if st.axis is not None}
 
-        def need(link: str, where: str) -> None:
-            if link not in known:
-                problems.append(f"{where}: unknown link '{link}' (declare it under links)")
+    # ---- bookkeeping ------------------------------------------------------------------------
+    def need(self, link: str, where: str) -> None:
+        if link not in self.known:
+            self.problems.append(f"{where}: unknown link '{link}' (declare it under links)")
 
-        meshes: list[GearMesh] = []
-        joints: list[TurningJoint] = []
-        bearings: list[RollingBearing] = []
-        psets: list[PlanetarySet] = []
-        pair_names: set[str] = set()
+    def add_mesh(self, m: GearMesh, where: str) -> None:
+        if m.name in self.pair_names:
+            self.problems.append(f"{where}: duplicate gear pair name '{m.name}'")
+        self.pair_names.add(m.name)
+        self.meshes.append(m)
 
-        def add_mesh(m: GearMesh, where: str) -> None:
-            if m.name in pair_names:
-                problems.append(f"{where}: duplicate gear pair name '{m.name}'")
-            pair_names.add(m.name)
-            meshes.append(m)
+    def find(self, label: str) -> str:
+        parent = self.parent
+        parent.setdefault(label, label)
+        while parent[label] != label:
+            parent[label] = parent[parent[label]]
+            label = parent[label]
+        return label
 
-        # Axis levels are labels joined by a union-find: a stage saying "these links are coaxial"
-        # merges the labels they already carry, so a shaft shared by several stages keeps one
-        # axis whatever the declaration order (issue 11). Labels typed by the user (turning
-        # pairs, a stage's ``axis``) are never merged with each other: that stays an error.
-        joint_axis: dict[frozenset[str], str] = {}
-        parent: dict[str, str] = {}
-        explicit: set[str] = {str(tp.axis) for tp in self.turning_pairs}
-        explicit |= {st.axis for st in self.planetary if st.axis is not None}
-
-        def find(label: str) -> str:
-            parent.setdefault(label, label)
-            while parent[label] != label:
-                parent[label] = parent[parent[label]]
-                label = parent[label]
-            return label
-
-        def merge(a: str, b: str) -> bool:
-            """Join two axis labels; False when both are distinct user-given labels."""
-            ra, rb = find(a), find(b)
-            if ra == rb:
-                return True
-            if ra in explicit and rb in explicit:
-                return False
-            if rb in explicit:
-                ra, rb = rb, ra
-            parent[rb] = ra  # a user-given label, else the stage's own, names the merged axis
+    def merge(self, a: str, b: str) -> bool:
+        """Join two axis labels; False when both are distinct user-given labels."""
+        ra, rb = self.find(a), self.find(b)
+        if ra == rb:
             return True
+        if ra in self.explicit and rb in self.explicit:
+            return False
+        if rb in self.explicit:
+            ra, rb = rb, ra
+        self.parent[rb] = ra  # a user-given label, else the stage's own, names the merged axis
+        return True
 
-        def add_joint(a: str, b: str, axis: str, where: str, reuse: bool = False) -> str:
-            key = frozenset((a, b))
-            if key in joint_axis:
-                got = find(joint_axis[key])
-                if reuse:
-                    return got
-                if got != find(axis):
-                    problems.append(
-                        f"{where}: turning pair {a}–{b} given twice with different axis levels "
-                        f"('{got}' and '{axis}'); two links turn about one axis only"
-                    )
+    def add_joint(self, a: str, b: str, axis: str, where: str, reuse: bool = False) -> str:
+        key = frozenset((a, b))
+        if key in self.joint_axis:
+            got = self.find(self.joint_axis[key])
+            if reuse:
                 return got
-            find(axis)
-            joint_axis[key] = axis
-            joints.append(TurningJoint(a, b, axis))
-            return find(axis)
+            if got != self.find(axis):
+                self.problems.append(
+                    f"{where}: turning pair {a}–{b} given twice with different axis levels "
+                    f"('{got}' and '{axis}'); two links turn about one axis only"
+                )
+            return got
+        self.find(axis)
+        self.joint_axis[key] = axis
+        self.joints.append(TurningJoint(a, b, axis))
+        return self.find(axis)
 
-        # general form
-        for i, tp in enumerate(self.turning_pairs):
+    # ---- sections ---------------------------------------------------------------------------
+    def general_form(self) -> None:
+        """Turning pairs on their axis levels and gear pairs with their pitch angles."""
+        for i, tp in enumerate(self.mech.turning_pairs):
             where = f"turning_pairs[{i}] ({tp.links[0]}–{tp.links[1]})"
             for lk in tp.links:
-                need(lk, where)
-            add_joint(tp.links[0], tp.links[1], str(tp.axis), where)
-        for i, gp in enumerate(self.gear_pairs):
+                self.need(lk, where)
+            self.add_joint(tp.links[0], tp.links[1], str(tp.axis), where)
+        for i, gp in enumerate(self.mech.gear_pairs):
             where = f"gear_pairs[{i}] '{gp.label}'"
-            need(gp.a.link, where)
-            need(gp.b.link, where)
-            add_mesh(
+            self.need(gp.a.link, where)
+            self.need(gp.b.link, where)
+            self.add_mesh(
                 GearMesh(
                     name=gp.label,
                     link_a=gp.a.link,
@@ -489,26 +517,25 @@ class Mechanism(_Model):
                 where,
             )
 
-        def shaft_axis(link: str, support: str, default: str, where: str) -> str:
-            return add_joint(link, support, default, where, reuse=True)
-
-        # parallel and bevel stages: each wheel turns on its own fixed axis in the support
-        for i, st in enumerate([*self.parallel, *self.bevel]):
+    def fixed_axis_stages(self) -> None:
+        """Parallel and bevel stages: each wheel turns on its own fixed axis in the support."""
+        for i, st in enumerate([*self.mech.parallel, *self.mech.bevel]):
             kind = "parallel" if isinstance(st, ParallelStage) else "bevel"
             where = f"{kind} stage '{st.name}'"
-            support = st.support or self.frame
-            need(support, where)
-            need(st.a.link, where)
-            need(st.b.link, where)
+            support = st.support or self.mech.frame
+            self.need(support, where)
+            self.need(st.a.link, where)
+            self.need(st.b.link, where)
             for side in (st.a, st.b):
                 if side.link != support:
-                    shaft_axis(side.link, support, f"{st.name}.{side.link}.axis{i}", where)
+                    self.add_joint(side.link, support, f"{st.name}.{side.link}.axis{i}", where,
+                                   reuse=True)
             if isinstance(st, ParallelStage):
                 ta = math.pi if st.internal == "a" else 0.0
                 tb = math.pi if st.internal == "b" else 0.0
             else:
                 ta, tb = st.pitch_angles()
-            add_mesh(
+            self.add_mesh(
                 GearMesh(
                     name=st.name,
                     link_a=st.a.link,
@@ -524,65 +551,20 @@ class Mechanism(_Model):
                 where,
             )
 
-        # planetary stages
-        for st in self.planetary:
+    def planetary_stages(self) -> None:
+        """Planetary stages: central members on one axis in the support, each planet on its
+        pin in the carrier, meshing with the sun (external) and the ring (internal)."""
+        for st in self.mech.planetary:
             where = f"planetary stage '{st.name}'"
-            support = st.support or self.frame
-            need(support, where)
+            support = st.support or self.mech.frame
+            self.need(support, where)
             for lk in (st.sun, st.ring, st.carrier):
-                need(lk, where)
-            central = [x for x in (st.sun, st.ring, st.carrier) if x != support]
-            axis = st.axis or f"{st.name}.central"
-            for x in central:
-                got = add_joint(x, support, axis, where, reuse=True)
-                if not merge(axis, got):
-                    problems.append(
-                        f"{where}: '{x}' already turns in '{support}' about axis '{find(got)}', "
-                        f"not the stage's central axis '{find(axis)}' (both axis levels are "
-                        "given explicitly; the central members of a stage share one axis)"
-                    )
+                self.need(lk, where)
+            self._central_axis(st, support, where)
             planets = st.planet_names()
             for p in planets:
-                if p in known:
-                    problems.append(f"{where}: planet link name '{p}' clashes with a declared link")
-                links.append(p)
-                known.add(p)
-                add_joint(p, st.carrier, f"{p}.pin", where)
-                add_mesh(
-                    GearMesh(
-                        name=f"{st.name}.sun-{p.split('.')[-1]}",
-                        link_a=st.sun,
-                        link_b=p,
-                        teeth_a=st.sun_teeth,
-                        teeth_b=st.planet_sun_teeth,
-                        theta_a=0.0,
-                        theta_b=0.0,
-                        wheel_a=f"{st.name}.sun",
-                        wheel_b=f"{p}/z{st.planet_sun_teeth}",
-                        stage=st.name,
-                    ),
-                    where,
-                )
-                add_mesh(
-                    GearMesh(
-                        name=f"{st.name}.ring-{p.split('.')[-1]}",
-                        link_a=st.ring,
-                        link_b=p,
-                        teeth_a=st.ring_teeth,
-                        teeth_b=st.planet_ring_teeth,
-                        theta_a=math.pi,
-                        theta_b=0.0,
-                        wheel_a=f"{st.name}.ring",
-                        wheel_b=f"{p}/z{st.planet_ring_teeth}",
-                        stage=st.name,
-                    ),
-                    where,
-                )
-                if st.planet_bearing is not None:
-                    bearings.append(
-                        st.planet_bearing.rolling_bearing(f"{p}.bearing", st.carrier, p)
-                    )
-            psets.append(
+                self._planet(st, p, where)
+            self.psets.append(
                 PlanetarySet(
                     name=st.name,
                     sun=st.sun,
@@ -595,71 +577,131 @@ class Mechanism(_Model):
                 )
             )
 
-        # canonical axis labels, then: the two wheels of a parallel or bevel stage may not have
-        # been made coaxial by a planetary stage
-        joints = [TurningJoint(j.link_a, j.link_b, find(j.axis)) for j in joints]
-        for st in [*self.parallel, *self.bevel]:
-            support = st.support or self.frame
+    def _central_axis(self, st: PlanetaryStage, support: str, where: str) -> None:
+        central = [x for x in (st.sun, st.ring, st.carrier) if x != support]
+        axis = st.axis or f"{st.name}.central"
+        for x in central:
+            got = self.add_joint(x, support, axis, where, reuse=True)
+            if not self.merge(axis, got):
+                self.problems.append(
+                    f"{where}: '{x}' already turns in '{support}' about axis "
+                    f"'{self.find(got)}', not the stage's central axis '{self.find(axis)}' (both "
+                    "axis levels are given explicitly; the central members of a stage share one "
+                    "axis)"
+                )
+
+    def _planet(self, st: PlanetaryStage, p: str, where: str) -> None:
+        if p in self.known:
+            self.problems.append(f"{where}: planet link name '{p}' clashes with a declared link")
+        self.links.append(p)
+        self.known.add(p)
+        self.add_joint(p, st.carrier, f"{p}.pin", where)
+        self.add_mesh(
+            GearMesh(
+                name=f"{st.name}.sun-{p.split('.')[-1]}",
+                link_a=st.sun,
+                link_b=p,
+                teeth_a=st.sun_teeth,
+                teeth_b=st.planet_sun_teeth,
+                theta_a=0.0,
+                theta_b=0.0,
+                wheel_a=f"{st.name}.sun",
+                wheel_b=f"{p}/z{st.planet_sun_teeth}",
+                stage=st.name,
+            ),
+            where,
+        )
+        self.add_mesh(
+            GearMesh(
+                name=f"{st.name}.ring-{p.split('.')[-1]}",
+                link_a=st.ring,
+                link_b=p,
+                teeth_a=st.ring_teeth,
+                teeth_b=st.planet_ring_teeth,
+                theta_a=math.pi,
+                theta_b=0.0,
+                wheel_a=f"{st.name}.ring",
+                wheel_b=f"{p}/z{st.planet_ring_teeth}",
+                stage=st.name,
+            ),
+            where,
+        )
+        if st.planet_bearing is not None:
+            self.bearings.append(st.planet_bearing.rolling_bearing(f"{p}.bearing", st.carrier, p))
+
+    def check_fixed_axis_pairs_not_coaxial(self) -> None:
+        """Canonical axis labels; the two wheels of a parallel or bevel stage may not have been
+        made coaxial by a planetary stage."""
+        find, joint_axis = self.find, self.joint_axis
+        self.joints = [TurningJoint(j.link_a, j.link_b, find(j.axis)) for j in self.joints]
+        for st in [*self.mech.parallel, *self.mech.bevel]:
+            support = st.support or self.mech.frame
             ka, kb = frozenset((st.a.link, support)), frozenset((st.b.link, support))
             if ka in joint_axis and kb in joint_axis and find(joint_axis[ka]) == find(
                 joint_axis[kb]
             ):
-                problems.append(
+                self.problems.append(
                     f"stage '{st.name}': '{st.a.link}' and '{st.b.link}' turn about the same axis "
                     f"'{find(joint_axis[ka])}' in '{support}' (a planetary stage makes them "
                     "coaxial), so they cannot mesh as a parallel or bevel pair"
                 )
 
-        # bearings on turning pairs
+    def mounted_bearings(self) -> None:
+        """Bearings sit on turning pairs (unique names)."""
         bnames: set[str] = set()
-        for b in self.bearings:
+        for b in self.mech.bearings:
             where = f"bearing '{b.name}'"
             if b.name in bnames:
-                problems.append(f"{where}: duplicate bearing name")
+                self.problems.append(f"{where}: duplicate bearing name")
             bnames.add(b.name)
-            need(b.inner, where)
-            need(b.outer, where)
+            self.need(b.inner, where)
+            self.need(b.outer, where)
             if (
-                b.inner in known
-                and b.outer in known
-                and frozenset((b.inner, b.outer)) not in joint_axis
+                b.inner in self.known
+                and b.outer in self.known
+                and frozenset((b.inner, b.outer)) not in self.joint_axis
             ):
-                problems.append(
+                self.problems.append(
                     f"{where}: there is no turning pair between '{b.inner}' and '{b.outer}' "
                     "(a bearing sits on a turning pair)"
                 )
-            bearings.append(b.rolling_bearing(b.name, b.inner, b.outer))
+            self.bearings.append(b.rolling_bearing(b.name, b.inner, b.outer))
 
-        # every moving link must be held by a turning pair
-        held = {j.link_a for j in joints} | {j.link_b for j in joints}
-        for lk in links:
-            if lk != self.frame and lk not in held:
-                problems.append(
+    def held_links_and_inputs(self) -> None:
+        """Every moving link held by a turning pair; input speeds on known, moving links."""
+        held = {j.link_a for j in self.joints} | {j.link_b for j in self.joints}
+        for lk in self.links:
+            if lk != self.mech.frame and lk not in held:
+                self.problems.append(
                     f"link '{lk}': has no turning pair, so nothing holds it (add a turning pair "
                     "or remove the link)"
                 )
-        for name in self.input_speeds_rpm:
-            if name not in known:
-                problems.append(f"input_speeds_rpm: unknown link '{name}'")
-            elif name == self.frame:
-                problems.append(f"input_speeds_rpm: '{name}' is the frame (its speed is 0)")
-        graph = MechanismGraph(
-            name=self.name,
-            frame=self.frame,
-            links=links,
-            meshes=meshes,
-            joints=joints,
-            bearings=bearings,
-            planetary_sets=psets,
-        )
-        if not problems:
-            # carriers (seed 000 eq 1) are part of validity: report them at load time
-            from geardyn.kinematics.willis import reference_link, turning_neighbourhood
+        for name in self.mech.input_speeds_rpm:
+            if name not in self.known:
+                self.problems.append(f"input_speeds_rpm: unknown link '{name}'")
+            elif name == self.mech.frame:
+                self.problems.append(f"input_speeds_rpm: '{name}' is the frame (its speed is 0)")
 
-            s = turning_neighbourhood(graph)
-            for m in meshes:
-                try:
-                    reference_link(m, s)
-                except KinematicsError as exc:
-                    problems.append(str(exc))
-        return graph, problems
+    def graph(self) -> MechanismGraph:
+        return MechanismGraph(
+            name=self.mech.name,
+            frame=self.mech.frame,
+            links=self.links,
+            meshes=self.meshes,
+            joints=self.joints,
+            bearings=self.bearings,
+            planetary_sets=self.psets,
+        )
+
+    def check_carriers(self, graph: MechanismGraph) -> None:
+        """Carriers (Penaud et al. 2012, eq 1) are part of validity: reported at load time."""
+        if self.problems:
+            return
+        from geardyn.kinematics.willis import reference_link, turning_neighbourhood
+
+        s = turning_neighbourhood(graph)
+        for m in self.meshes:
+            try:
+                reference_link(m, s)
+            except KinematicsError as exc:
+                self.problems.append(str(exc))

@@ -38,7 +38,7 @@ class MemberParams(_M):
 
 
 class MeshLoadLaw(_M):
-    """Load-dependent square-wave mesh (seed 003 §1.2 item 5): c(F) = min(2, c₀ + 2ρ·min(δ/C_a,
+    """Load-dependent square-wave mesh (Hammami 2015, §1.2 item 5): c(F) = min(2, c₀ + 2ρ·min(δ/C_a,
     1)) with δ = F/k̄₀, and k ∝ (F/F_ref)^n. F is the static mesh force of the run's loads."""
 
     tip_relief_m: float = Field(gt=0, description="tip relief depth C_a (m)")
@@ -55,9 +55,10 @@ class MeshParams(_M):
     """Mesh stiffness along the line of action (N/m).
 
     ``constant``: k = stiffness_n_per_m. ``square``: k_max for the double-contact part of the
-    mesh cycle, k_min otherwise (seed 003 eq 1.11). ``sine``: k = k_mean(1 + amplitude·sin 2πX).
-    ``seed004``: the piecewise-constant torsional stiffness of seed 004 ch. 5 (sun or ring mesh
-    of the seed 004 gearbox, via :func:`geardyn.gears.seed004_params`) divided by the pinion base
+    mesh cycle, k_min otherwise (Hammami 2015, eq 1.11). ``sine``: k = k_mean(1 + amplitude·sin
+    2πX).
+    ``seed004``: the piecewise-constant torsional stiffness of Wang 2010, ch. 5 (sun or ring mesh
+    of the Wang 2010 gearbox, via :func:`geardyn.gears.seed004_params`) divided by the pinion base
     radius squared.
     """
 
@@ -92,10 +93,10 @@ class MeshParams(_M):
 
 
 class FaultParams(_M):
-    """Seed 004 ch. 9 tooth fault: crack (fraction of tooth thickness) or spall, on one tooth of
+    """Wang 2010, ch. 9 tooth fault: crack (fraction of tooth thickness) or spall, on one tooth of
     the sun, the ring or planet ``planet`` (1-based, default 1) of the stage.
 
-    It acts on every mesh model (seed 004 ch. 5 stiffness reduction; see
+    It acts on every mesh model (Wang 2010, ch. 5 stiffness reduction; see
     :func:`geardyn.models.planetary.build.mesh_laws`): a sun or ring tooth meets every planet in
     turn, a planet tooth meets that planet's sun and ring meshes only.
     """
@@ -132,7 +133,7 @@ class FaultParams(_M):
 
 
 class PlanetPassForce(_M):
-    """Seed 003 eq 4.13-4.14: Σ_n w_n U_n F_n Σ_h a_h cos(h z_r(θ_c − ψ_n)) on the ring."""
+    """Hammami 2015, eq 4.13-4.14: Σ_n w_n U_n F_n Σ_h a_h cos(h z_r(θ_c − ψ_n)) on the ring."""
 
     amplitude_n: float | None = Field(None, gt=0, description="F_n (N); default: the static "
                                       "ring-planet mesh force of the run's loads")
@@ -143,7 +144,7 @@ class PlanetPassForce(_M):
 
 
 class StageDynamics(_M):
-    """Lumped parameters of one mechanism planetary stage (seed 003 Table 3.1 layout)."""
+    """Lumped parameters of one mechanism planetary stage (Hammami 2015, Table 3.1 layout)."""
 
     stage: str = Field(description="name of a [[planetary]] stage of the mechanism")
     pressure_angle_sun_deg: float = Field(20.0, gt=0, lt=45)
@@ -161,32 +162,32 @@ class StageDynamics(_M):
         "the carrier)")
     sun_mesh: MeshParams
     ring_mesh: MeshParams
-    transmission_error: bool = Field(False, description="seed 004 pitch + profile errors")
+    transmission_error: bool = Field(False, description="Wang 2010 pitch + profile errors")
     random_error_max_m: float = Field(
         0.0,
         ge=0,
-        description="seed 004 §4.1.3 random impulse excitation: largest impulse (m; the thesis "
+        description="Wang 2010, §4.1.3 random impulse excitation: largest impulse (m; the thesis "
         "uses 1e-6); 0 disables it",
     )
     random_error_probability: float = Field(
         100 / 501,
         gt=0,
         le=1,
-        description="probability that a sample of the error table carries an impulse (seed 004 "
+        description="probability that a sample of the error table carries an impulse (Wang 2010 "
         "code: 100/501)",
     )
     random_error_seed: int = Field(0, ge=0, description="seed of the random impulses")
     faults: list[FaultParams] = Field(default_factory=list)
-    sun_ring_phase: float = Field(0.0, description="γ_rs (mesh cycles), seed 004 Table 4-2")
+    sun_ring_phase: float = Field(0.0, description="γ_rs (mesh cycles), Wang 2010, Table 4-2")
     pin_errors_m: list[float] | None = Field(
-        None, description="tangential planet pin position errors e_i (m), seed 003 eq 5.4")
+        None, description="tangential planet pin position errors e_i (m), Hammami 2015, eq 5.4")
     gravity_m_per_s2: float = Field(0.0, ge=0, description="opt-in weight of the stage's "
-                                    "bodies (m/s²; 9.81 on earth), seed 003 ch. 5 §2.1.2")
+                                    "bodies (m/s²; 9.81 on earth), Hammami 2015, ch. 5 §2.1.2")
     gravity_angle_deg: float = Field(0.0, description="carrier x axis above the horizontal at "
                                      "t = 0 (deg)")
     planet_pass: PlanetPassForce | None = Field(
         None, description="opt-in planet-pass ring force F_j(t) on the ring rotation DOF "
-        "(seed 003 eqs 4.10-4.14)")
+        "(Hammami 2015, eqs 4.10-4.14)")
 
     @model_validator(mode="after")
     def _check(self) -> StageDynamics:
@@ -264,7 +265,7 @@ class SpeedControl(_M):
 class MotorDrive(_M):
     """Induction motor on a rotor, optionally through a fluid coupling to a body.
 
-    ``piecewise``: seed 004 TorM; ``kloss``: seed 003 eq 1.18.
+    ``piecewise``: Wang 2010 TorM; ``kloss``: Hammami 2015, eq 1.18.
     """
 
     rotor: str
@@ -278,13 +279,13 @@ class MotorDrive(_M):
     kloss_a: float = 1.0
     kloss_b: float = 0.0
     coupling_to: str | None = Field(None, description="body driven through the coupling")
-    coupling_q: float = Field(15.0, gt=0, description="q_cc (N·m·s²/rad²), seed 004 eq 6.6")
+    coupling_q: float = Field(15.0, gt=0, description="q_cc (N·m·s²/rad²), Wang 2010, eq 6.6")
     coupling_ratio: float = Field(1.0, gt=0, description="ideal reduction between coupling "
-                                  "and body (29.2971 in seed 004)")
+                                  "and body (29.2971 in Wang 2010)")
 
 
 class WheelLoad(_M):
-    """Seed 004 bucket-wheel load on the carrier: T = T_fl G (n_c/(k n_op/G))² × schedule."""
+    """Wang 2010 bucket-wheel load on the carrier: T = T_fl G (n_c/(k n_op/G))² × schedule."""
 
     body: str
     full_load_torque_nm: float = Field(4342.4, gt=0)
@@ -316,7 +317,7 @@ class Simulation(_M):
     rayleigh_beta: float = Field(0.0, ge=0, description="(s)")
     modal_damping_ratio: float = Field(0.0, ge=0, lt=1, description="ζ on every elastic mode")
     gyroscopic: bool = Field(False, description="gyroscopic + centripetal terms at the current "
-                             "carrier speed (seed 003 eq 3.1)")
+                             "carrier speed (Hammami 2015, eq 3.1)")
     support_damping: dict[str, float] = Field(default_factory=dict,
                                               description="DOF name → N·s/m")
     initial_speed_rpm: dict[str, float] = Field(

@@ -2,7 +2,8 @@
 
 Each sensor becomes a channel ``sensors.<name>`` of a simulation result (docs/results.md):
 
-* ``encoder``: IAS of a shaft by the elapsed-time method (seed 002 eq 1): ``pulses_per_rev``,
+* ``encoder``: IAS of a shaft by the elapsed-time method (Thibault et al. 2024, eq 1):
+  ``pulses_per_rev``,
   counter ``clock_hz`` (omit for an ideal clock), graduation errors (standard deviation
   ``graduation_error_rad``);
 * ``tacho``: once-per-rev (or ``pulses_per_rev``) pulse times of a shaft;
@@ -12,7 +13,7 @@ Each sensor becomes a channel ``sensors.<name>`` of a simulation result (docs/re
   a tooth fault shows in the TE of its own mesh only, which tells apart wheels sharing a shaft;
 * ``accelerometer``: a force at a location through a transfer path, plus noise and ADC.
   Locations: ``ring`` of a planetary stage (ring-mounted sensor: the ring–planet mesh forces
-  weighted by the planet-pass window of seed 003 eqs 4.10-4.13), a bearing of the model
+  weighted by the planet-pass window of Hammami 2015, eqs 4.10-4.13), a bearing of the model
   (planetary: ``sun``/``carrier``/``ring``/``planetN`` body bearings, or a
   ``[[transmission.bearings]]`` name) in direction ``x`` or ``y``. ``transfer_path`` lists modes
   ``{frequency_hz, damping_ratio, modal_mass_kg}``; the accelerance of each is

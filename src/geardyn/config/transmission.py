@@ -1,4 +1,4 @@
-"""Config schema of the finite-element transmission (issue 6, seed 002 §3.1).
+"""Config schema of the finite-element transmission (issue 6, Thibault et al. 2024, §3.1).
 
 ``[transmission]`` section of a geardyn TOML file. SI units, stated in field names. Shafts are
 meshed with Timoshenko elements (nodes 0..elements along +z from the shaft start); wheels,
@@ -43,7 +43,7 @@ class NodeRef(_Strict):
 
 
 class SpallConfig(_Strict):
-    """Outer-race spall (seed 002 §3.5.2)."""
+    """Outer-race spall (Thibault et al. 2024, §3.5.2)."""
 
     angle_deg: float = Field(description="angular centre on the outer race (0 = +x axis)")
     angular_length_deg: float = Field(gt=0, lt=360)
@@ -66,7 +66,8 @@ class BearingConfig(_Strict):
     flange_stiffness_n_per_m: float = Field(1e8, gt=0, description="roller: flange contact")
     youngs_modulus_pa: float = Field(206e9, gt=0)
     poisson_ratio: float = Field(0.3, gt=-1, lt=0.5)
-    viscous_torque_nms_per_rad: float = Field(0.0, ge=0, description="α_bea of seed 002 §3.1")
+    viscous_torque_nms_per_rad: float = Field(0.0, ge=0,
+                                              description="α_bea of Thibault et al. 2024, §3.1")
     rolling_resistance: float = Field(
         0.0, ge=0, description="torque per (Σ contact load × d_m/2), dimensionless"
     )
@@ -241,7 +242,8 @@ class MeshConfig(_Strict):
     squeeze_film_ns_per_m: float = Field(100.0, ge=0)
     table_points_per_cycle: int = Field(64, ge=8, le=1024)
     off_line_of_action: bool = Field(
-        True, description="extended contact outside the path (seed 002 §2.5.1; spur pairs)"
+        True, description="extended contact outside the path (Thibault et al. 2024, §2.5.1; "
+        "spur pairs)"
     )
     backlash_m: float | None = Field(
         None, ge=0, description="normal backlash along the line of action: tooth separation "
@@ -256,7 +258,7 @@ class TorqueConfig(_Strict):
 
 class SpeedLaw(_Strict):
     """Speed law of the reference shaft: linear ramp in time from start to end speed covering
-    ``revolutions`` of the reference shaft (seed 002 Table 1)."""
+    ``revolutions`` of the reference shaft (Thibault et al. 2024, Table 1)."""
 
     reference: NodeRef
     start_rpm: float = Field(gt=0)
@@ -422,7 +424,7 @@ def check_transmission(cfg) -> list[str]:  # noqa: ANN001 - GeardynConfig (avoid
     t: TransmissionConfig | None = getattr(cfg, "transmission", None)
     if t is None:
         return []
-    from geardyn.config.gears import pair_model  # noqa: PLC0415
+    from geardyn.models.gear_pairs import pair_model  # noqa: PLC0415
 
     problems: list[str] = []
     shafts = {s.name: s for s in t.shafts}

@@ -49,7 +49,7 @@ class Indicator:
 
 _ZTD = "Zakrajsek, Townsend & Decker 1993 (NASA TM-105950)"
 _STEWART = "Stewart 1977; formula as in " + _ZTD
-_SEED003 = "Hammami 2015 (seed 003)"
+_SEED003 = "Hammami 2015"
 
 _LIST: tuple[Indicator, ...] = (
     # ---------------------------------------------------------------- TSA statistics
@@ -99,7 +99,7 @@ _LIST: tuple[Indicator, ...] = (
               "sinusoidal modulation, large for a local tooth fault (geardyn measure).", "1",
               "geardyn; FM4 form of " + _ZTD + " on the sidebands of Hanna et al. 2011"),
     # ---------------------------------------------------------------- plain statistics
-    Indicator("RMS", "Root mean square of the signal (seed 003 eq. 1.21): its overall level.",
+    Indicator("RMS", "Root mean square of the signal (Hammami 2015, eq. 1.21): its overall level.",
               "channel units", _SEED003 + ", eq. 1.21"),
     Indicator("peak", "Largest absolute value of the signal.", "channel units",
               _SEED003 + ", §4.1.2"),

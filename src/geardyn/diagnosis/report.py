@@ -227,7 +227,7 @@ def sensor_band(analysed_order: float, reference_hz: float, sample_rate_hz: floa
     whole analysed range when the sample rate is not known. ``modes_hz``: transfer-path mode
     frequencies (non-positive entries, the "no path" placeholder, are dropped).
 
-    Example: seed 004 ring accelerometer, 5 kHz sampling, sun reference at 32.43 rpm
+    Example: Wang 2010 ring accelerometer, 5 kHz sampling, sun reference at 32.43 rpm
     (0.5404 Hz): Nyquist order 2500/0.5404 = 4626; its 1.2 kHz housing mode at order 2221."""
     f_ref = float(reference_hz)
     if not math.isfinite(f_ref) or f_ref <= 0:
@@ -390,7 +390,7 @@ def _angle_deg(da: xr.DataArray) -> np.ndarray:
 
 def cwt_figure(component: str, tsa_da: xr.DataArray, max_order: float) -> Any:
     """|CWT| (Morlet) of one revolution of a TSA: angle [deg] × order [events/rev] up to
-    ``max_order`` (seed 004 ch. 9 localises a tooth fault this way). The TSA is periodic: it
+    ``max_order`` (Wang 2010, ch. 9 localises a tooth fault this way). The TSA is periodic: it
     is first resampled (Fourier) to 8 samples per period of ``max_order`` and wrapped, so that
     the transform costs little and has no edge effect."""
     import pywt
@@ -677,13 +677,17 @@ def kinematics_section(freqs: CharacteristicFrequencies | None) -> str:
     return _section("Kinematics", *parts)
 
 
-def indicator_section(verdict: Verdict) -> str:
+def indicator_section(verdict: Verdict, channel_units: str | None = None) -> str:
     """All judged indicators with their unit, baseline statistics and thresholds; alarms
-    highlighted."""
+    highlighted. A level in the analysed channel's unit shows that unit (``channel_units``,
+    e.g. m/s²) when the channel states it."""
     df = verdict.indicator_table()
     if df.empty:
         return _section("Indicators and thresholds", _note("No indicator could be judged."))
-    df = df.assign(unit=[_unit_of(k) for k in df["indicator"]])
+    units = [_unit_of(k) for k in df["indicator"]]
+    if channel_units:
+        units = [channel_units if u == "channel units" else u for u in units]
+    df = df.assign(unit=units)
     alarms = list(df["alarm"])
     headers = dict(INDICATOR_COLUMNS)
     table = html_table(df, headers,
@@ -692,6 +696,14 @@ def indicator_section(verdict: Verdict) -> str:
         "Record value: median over the record's blocks of whole revolutions; baseline mean and "
         "std pooled over every block of every baseline record; threshold = mean + k·σ (two-sided"
         " indicators: |value − mean| > k·σ, margin = |value − mean|/(k·σ))."))
+
+
+def _channel_units(ds: xr.Dataset | None, channel: str | None) -> str | None:
+    """The stated unit of the analysed channel of a result (None when unknown)."""
+    if ds is None or not channel or f"sensors.{channel}" not in ds:
+        return None
+    unit = str(ds[f"sensors.{channel}"].attrs.get("units", "")).strip()
+    return unit or None
 
 
 def _unit_of(name: str) -> str:
@@ -894,7 +906,7 @@ def write_report(
         spectra_section(record, healthy, freqs, (fs, modes)),
         tsa_section(record, healthy, verdict),
         time_frequency_section(record_ds, channel, record, verdict, resolve_hz, teeth, modes),
-        indicator_section(verdict),
+        indicator_section(verdict, _channel_units(record_ds, channel)),
         explanations_section(verdict),
     ]
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"

@@ -147,7 +147,8 @@ class MeshGeometry:
     half_angle_base: tuple[float, float]
     """Half angular tooth thickness at the base circle (external: tooth; internal: space)."""
     slice_coupling: bool = False
-    """Couple the face slices in the mesh stiffness tables (seed 002 §2.2 unloaded-slice
+    """Couple the face slices in the mesh stiffness tables (Thibault et al. 2024, §2.2
+    unloaded-slice
     correction, :mod:`.slice_coupling`); off: independent slices."""
     slice_coupling_ratio: float | None = None
     """Decay length over load height λ/h of the slice coupling (None: √(0.8 − ν))."""
@@ -256,6 +257,60 @@ def mesh_geometry(
     equal base pitch, undercut, pointed/too-thin tips, tip inside base circle of an internal
     gear, involute interference (contact below the form circle), contact ratio < 1.
     """
+    _check_blanks(a, b, normal_module, normal_pressure_angle, face_width, helix_angle, label)
+    _check_tools(a, b, normal_module, normal_pressure_angle, module_b, pressure_angle_b, label)
+    mn, an, beta = normal_module, normal_pressure_angle, helix_angle
+    mt, at, bb = transverse_tool(mn, an, beta)
+    za, zb = a.teeth, b.teeth
+    r = (za * mt / 2.0, zb * mt / 2.0)
+    rb = (r[0] * math.cos(at), r[1] * math.cos(at))
+    awt, cd = _operating_centre(a, b, r, rb, an, at, label)
+    ra, rf = _tip_and_root_radii(a, b, r, mn)
+    half = _half_base_thickness(a, b, an, at)
+    form = _form_radii(a, b, r, rb, mn, mt, at, check, label)
+    if b.internal and check and ra[1] <= rb[1]:
+        raise _err(
+            label,
+            f"internal gear tip radius {ra[1] * 1e3:.3f} mm is inside its base circle "
+            f"{rb[1] * 1e3:.3f} mm: the ring tips would not be involute (tip/involute "
+            "interference)",
+        )
+    u_start, u_end = _path_of_contact(a, b, ra, rb, awt)
+    g = MeshGeometry(
+        label=label,
+        a=a,
+        b=b,
+        normal_module=mn,
+        normal_pressure_angle=an,
+        helix_angle=beta,
+        face_width=face_width,
+        transverse_module=mt,
+        transverse_pressure_angle=at,
+        working_pressure_angle=awt,
+        base_helix_angle=bb,
+        pitch_radius=r,
+        base_radius=rb,
+        tip_radius=(float(ra[0]), float(ra[1])),
+        root_radius=(float(rf[0]), float(rf[1])),
+        form_radius=(form[0], form[1]),
+        centre_distance=cd,
+        base_pitch=math.pi * mt * math.cos(at),
+        u_start=u_start,
+        u_end=u_end,
+        half_angle_base=half,
+    )
+    if check:
+        _check(g)
+    return g
+
+
+def _check_blanks(a: GearBlank, b: GearBlank, normal_module: float,
+                  normal_pressure_angle: float, face_width: float, helix_angle: float,
+                  label: str) -> None:
+    """The pair's inputs within their rules: external pinion, positive module and face width,
+    pressure angle in (0, 45)°, helix within ±60°, ≥ 3 teeth, positive addendum and dedendum
+    coefficients, a known root fillet (trochoid for external gears only), positive rack tip
+    radius."""
     if a.internal:
         raise _err(label, "gear a (the pinion) must be external; put the internal gear on side b")
     for name, v in (("normal module", normal_module), ("face width", face_width)):
@@ -286,6 +341,13 @@ def mesh_geometry(
             math.isfinite(g.rack_tip_radius) and g.rack_tip_radius > 0
         ):
             raise _err(label, f"gear {side}: rack_tip_radius must be > 0 (got {g.rack_tip_radius})")
+
+
+def _check_tools(a: GearBlank, b: GearBlank, normal_module: float,
+                 normal_pressure_angle: float, module_b: float | None,
+                 pressure_angle_b: float | None, label: str) -> None:
+    """Two tools mesh only with equal normal base pitches π m_n cos α_n; an internal mesh
+    only at the reference centre distance (equal profile shifts)."""
     mb = module_b if module_b is not None else normal_module
     ab = pressure_angle_b if pressure_angle_b is not None else normal_pressure_angle
     pb_a = math.pi * normal_module * math.cos(normal_pressure_angle)
@@ -302,26 +364,41 @@ def mesh_geometry(
             "internal meshes are supported at the reference centre distance only: the ring "
             f"profile shift ({b.profile_shift}) must equal the pinion's ({a.profile_shift})",
         )
-    mn, an, beta = normal_module, normal_pressure_angle, helix_angle
+
+
+def transverse_tool(mn: float, an: float, beta: float) -> tuple[float, float, float]:
+    """Transverse module m_t = m_n / cos β, transverse pressure angle tan α_t = tan α_n / cos β
+    and base helix angle tan β_b = tan β cos α_t (signed as β)."""
     mt = mn / math.cos(beta)
     at = math.atan(math.tan(an) / math.cos(beta))
     bb = math.atan(math.tan(abs(beta)) * math.cos(at)) * (1 if beta >= 0 else -1)
+    return mt, at, bb
+
+
+def _operating_centre(a: GearBlank, b: GearBlank, r: tuple[float, float],
+                      rb: tuple[float, float], an: float, at: float,
+                      label: str) -> tuple[float, float]:
+    """Working pressure angle and centre distance: inv α_w = inv α_t + 2 tan α_n (x_a + x_b)
+    / (z_a + z_b), a = (r_b,a + r_b,b) / cos α_w for an external pair; an internal pair at the
+    reference centre distance r_b − r_a (at least 6 more teeth on the ring)."""
     za, zb = a.teeth, b.teeth
-    r = (za * mt / 2.0, zb * mt / 2.0)
-    rb = (r[0] * math.cos(at), r[1] * math.cos(at))
     if b.internal:
         if zb - za < 6:
             raise _err(
                 label, f"internal gear needs at least 6 more teeth than the pinion ({zb} vs {za})"
             )
-        awt = at
-        cd = r[1] - r[0]
-    else:
-        inv_w = float(inv(at)) + 2.0 * math.tan(an) * (a.profile_shift + b.profile_shift) / (
-            za + zb
-        )
-        awt = inv_inverse(inv_w)
-        cd = (rb[0] + rb[1]) / math.cos(awt)
+        return at, r[1] - r[0]
+    inv_w = float(inv(at)) + 2.0 * math.tan(an) * (a.profile_shift + b.profile_shift) / (
+        za + zb
+    )
+    awt = inv_inverse(inv_w)
+    return awt, (rb[0] + rb[1]) / math.cos(awt)
+
+
+def _tip_and_root_radii(a: GearBlank, b: GearBlank, r: tuple[float, float], mn: float
+                        ) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Tip and root radii: the given ones, else from the addendum/dedendum coefficients and
+    the profile shift (an internal gear's tip inside, its root outside its pitch circle)."""
     if b.internal:
         ra_b = r[1] - mn * (b.addendum_coef - b.profile_shift)
         rf_b = r[1] + mn * (b.dedendum_coef + b.profile_shift)
@@ -340,12 +417,25 @@ def mesh_geometry(
         else r[0] - mn * (a.dedendum_coef - a.profile_shift),
         b.root_radius if b.root_radius is not None else rf_b,
     )
-    # half angular thickness at the base circle: external tooth / internal tooth space
-    half = (
+    return ra, rf
+
+
+def _half_base_thickness(a: GearBlank, b: GearBlank, an: float, at: float
+                         ) -> tuple[float, float]:
+    """Half angular thickness at the base circle: of an external tooth, of an internal
+    gear's tooth space, π/2z + inv α_t + 2 x tan α_n / z."""
+    za, zb = a.teeth, b.teeth
+    return (
         math.pi / (2 * za) + float(inv(at)) + 2.0 * a.profile_shift * math.tan(an) / za,
         math.pi / (2 * zb) + float(inv(at)) + 2.0 * b.profile_shift * math.tan(an) / zb,
     )
-    # usable involute (form) radius of generated external teeth; ring: base circle
+
+
+def _form_radii(a: GearBlank, b: GearBlank, r: tuple[float, float], rb: tuple[float, float],
+                mn: float, mt: float, at: float, check: bool, label: str) -> list[float]:
+    """Usable involute (form) radius of each wheel: a generated external tooth's involute
+    starts where the rack tip line leaves it (undercut when it would start below the base
+    circle), a ring's at its base circle, a given form radius is kept (not below the base)."""
     form = []
     for g, rr, rbb, side in ((a, r[0], rb[0], "a"), (b, r[1], rb[1], "b")):
         if g.internal:
@@ -364,15 +454,14 @@ def mesh_geometry(
                 f"needs x ≥ {xmin:.3f} (z·sin²α_t/2 < h_a* − x)",
             )
         form.append(max(rbb, math.hypot(rbb, max(rho, 0.0))))
+    return form
+
+
+def _path_of_contact(a: GearBlank, b: GearBlank, ra: tuple[float, float],
+                     rb: tuple[float, float], awt: float) -> tuple[float, float]:
+    """Start and end of contact along the line of action (from the pitch point) where the
+    active tips cut it; a tip round of radius ρ ends the involute where the round meets it."""
     tw = math.tan(awt)
-    if b.internal and check and ra[1] <= rb[1]:
-        raise _err(
-            label,
-            f"internal gear tip radius {ra[1] * 1e3:.3f} mm is inside its base circle "
-            f"{rb[1] * 1e3:.3f} mm: the ring tips would not be involute (tip/involute "
-            "interference)",
-        )
-    # active tips: a tip round of radius ρ ends the involute where the round meets it
     act = (
         active_tip_radius(ra[0], rb[0], a.tip_round, internal=False),
         active_tip_radius(ra[1], rb[1], b.tip_round, internal=b.internal),
@@ -382,32 +471,7 @@ def mesh_geometry(
     else:
         u_start = -(math.sqrt(max(act[1] ** 2 - rb[1] ** 2, 0.0)) - rb[1] * tw)
     u_end = math.sqrt(max(act[0] ** 2 - rb[0] ** 2, 0.0)) - rb[0] * tw
-    g = MeshGeometry(
-        label=label,
-        a=a,
-        b=b,
-        normal_module=mn,
-        normal_pressure_angle=an,
-        helix_angle=beta,
-        face_width=face_width,
-        transverse_module=mt,
-        transverse_pressure_angle=at,
-        working_pressure_angle=awt,
-        base_helix_angle=bb,
-        pitch_radius=r,
-        base_radius=rb,
-        tip_radius=(float(ra[0]), float(ra[1])),
-        root_radius=(float(rf[0]), float(rf[1])),
-        form_radius=(form[0], form[1]),
-        centre_distance=cd,
-        base_pitch=math.pi * mt * math.cos(at),
-        u_start=u_start,
-        u_end=u_end,
-        half_angle_base=half,
-    )
-    if check:
-        _check(g)
-    return g
+    return u_start, u_end
 
 
 def _check(g: MeshGeometry) -> None:

@@ -76,8 +76,11 @@ def stiffness_figure(healthy: StiffnessTable, faulty: StiffnessTable | None = No
     if faulty is not None:
         ax1.plot(faulty.mesh_cycle, faulty.total, label="with faults", lw=1.0)
         ax1.legend(loc="best", fontsize=8)
-    for x, k in pair_curves(faulty if faulty is not None else healthy):
-        ax2.plot(x, k, lw=0.9)
+    for i, (x, k) in enumerate(pair_curves(faulty if faulty is not None else healthy)):
+        ax2.plot(x, k, lw=0.9, label=f"tooth pair {i + 1}")
+    if ax2.get_lines():
+        ax2.legend(loc="upper right", fontsize=7, ncol=min(4, len(ax2.get_lines())),
+                   title="one curve per tooth pair in contact", title_fontsize=7)
     ax2.set_xlabel(MESH_POSITION)
     ax2.set_ylabel(PAIR_STIFFNESS)
     ax2.grid(True, alpha=0.3)

@@ -136,7 +136,7 @@ def torsional_stiffness_curve(
     for n, k in levels.items():
         out[y == n] = k
     if np.any(~np.isin(y, list(levels))):
-        raise InputError("contact ratio outside 1-3: the seed 004 model covers 1 to 3 pairs")
+        raise InputError("contact ratio outside 1-3: the Wang 2010 model covers 1 to 3 pairs")
     return out
 
 

@@ -92,12 +92,13 @@ def reference_link(mesh: GearMesh, s: Mapping[str, set[str]]) -> str:
         raise KinematicsError(
             f"gear pair '{mesh.name}' ({mesh.link_a}–{mesh.link_b}): no common carrier — no link "
             f"is joined by turning pairs to both '{mesh.link_a}' and '{mesh.link_b}' "
-            "(seed 000 eq 1: S_i ∩ S_j must be exactly one link)"
+            "(Penaud et al. 2012, eq 1: S_i ∩ S_j must be exactly one link)"
         )
     if len(common) > 1:
         raise KinematicsError(
             f"gear pair '{mesh.name}' ({mesh.link_a}–{mesh.link_b}): two or more carriers "
-            f"{sorted(common)} — S_i ∩ S_j must be exactly one link (seed 000 eq 1); the turning "
+            f"{sorted(common)} — S_i ∩ S_j must be exactly one link (Penaud et al. 2012, eq 1); "
+            "the turning "
             "pairs put both gears on a common axis, or two axis levels are mislabelled"
         )
     return next(iter(common))
@@ -415,7 +416,8 @@ def axis_directions(graph: MechanismGraph, carriers: Sequence[str]) -> dict[str,
                         f"gear pair '{name}': its pitch angles put the axis of level "
                         f"'{groups[h][0]}' at {math.degrees(_half_turn(want)):.6g}° but other "
                         f"gear pairs put it at {math.degrees(_half_turn(phi[h])):.6g}° "
-                        "(seed 000 §2.2: θ_a + φ_a = θ_b + φ_b mod 180° in every gear pair); "
+                        "(Penaud et al. 2012, §2.2: θ_a + φ_a = θ_b + φ_b mod 180° in every "
+                        "gear pair); "
                         "check the pitch angles")
     axes = {graph.frame: 0.0}
     for link, parent in turning_tree(graph):
@@ -451,5 +453,5 @@ def physical_motions(graph: MechanismGraph, carriers: Sequence[str], m: np.ndarr
         raise KinematicsError(
             f"mechanism '{graph.name}': the pitch angles admit {basis.shape[1]} motion(s) "
             f"about the turning-pair axes but rank(M) leaves {dof} degree(s) of freedom "
-            "(seed 000 §2.2): check the pitch angles of the bevel gear pairs")
+            "(Penaud et al. 2012, §2.2): check the pitch angles of the bevel gear pairs")
     return axes, _clean(p @ basis)

@@ -117,7 +117,7 @@ def _pulse_channel(ds: xr.Dataset, spec, t, rng, where: str) -> None:  # noqa: A
         coords={dim: (dim, m.angle, {"units": "rad", "long_name": "encoder angle"}),
                 f"{key}.time": (dim, m.time, {"units": "s", "long_name": "edge time"})},
         attrs={**base, "units": "rad/s", "sampling": "angle",
-               "long_name": f"IAS of '{spec.shaft}' (elapsed time, seed 002 eq 1)",
+               "long_name": f"IAS of '{spec.shaft}' (elapsed time, Thibault et al. 2024, eq 1)",
                "clock_hz": float(spec.clock_hz or 0.0)})
 
 

@@ -1,6 +1,11 @@
-"""Modal analysis of lumped-parameter models (seed 003 ch. 3; Lin & Parker 1999).
+"""The modal result of every lumped model (:class:`ModalResult`: frequencies, shapes, mode
+types, energy tables, ``to_dataset``, ``table``, ``plot``). The planetary model's analysis
+(:func:`geardyn.models.planetary.modal.modes`, ``campbell``, ``strain_energy_table``) lives
+with that model; the solver knows no model (its generic part: :mod:`geardyn.solve.eigen`).
 
-- :func:`modes` solves ω² M φ = K φ (seed 003 eq 3.27), mass-normalised φ, frequencies in Hz
+The planetary analysis (Hammami 2015, ch. 3; Lin & Parker 1999):
+
+- ``modes`` solves ω² M φ = K φ (seed 003 eq 3.27), mass-normalised φ, frequencies in Hz
   (generic solver and energies: :mod:`geardyn.solve.eigen`, shared by every model).
 - Degenerate frequencies are grouped (multiplicity) and each mode is classified from its
   shape as in Lin & Parker (1999): *rotational* (central members only rotate, all planets move
@@ -8,7 +13,7 @@
   rest), else *mixed*; ``rigid`` for 0 Hz. The test uses the whole degenerate subspace.
 - Modal kinetic energy per DOF Ec_k = ½ ω² φ_k (Mφ)_k (seed 003 eq 3.29) and strain energy per
   spring Ep_e = ½ k_e (a_eᵀφ)² (eq 3.28); each set of bins sums to the mode's total energy.
-- :func:`campbell` gives the frequencies of M q̈ + Ω G q̇ + (K − Ω² K_Ω) q = 0 (eq 3.1).
+- ``campbell`` gives the frequencies of M q̈ + Ω G q̇ + (K − Ω² K_Ω) q = 0 (eq 3.1).
 """
 
 from __future__ import annotations
@@ -21,13 +26,12 @@ import numpy as np
 import xarray as xr
 
 from geardyn.errors import InputError
-from geardyn.models.planetary.model import PlanetaryModel
-from geardyn.solve.eigen import campbell as eigen_campbell
-from geardyn.solve.eigen import eigenmodes, kinetic_energy, participation, strain_rank_one
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+
+    from geardyn.models.planetary.model import PlanetaryModel
 
 
 @dataclass
@@ -91,8 +95,8 @@ class ModalResult:
         Table 3.4 layout, and ``"strain"`` energy per spring, in % of each mode's energy),
         ``"kinetic"``, ``"strain"`` (one axes each) or ``"frequencies"`` (natural frequency
         against mode number, one legend entry per mode type). With ``model`` the strain
-        columns follow seed 003 Table 3.5 (:func:`strain_energy_table`). ``ax``: axes to draw
-        on (two for ``"energy"``), else a new figure.
+        columns follow seed 003 Table 3.5 (the model's ``strain_energy_table``). ``ax``: axes
+        to draw on (two for ``"energy"``), else a new figure.
         """
         from geardyn.plotting import plot_mode_energies, plot_mode_frequencies
 
@@ -109,151 +113,28 @@ class ModalResult:
         if kind in ("energy", "kinetic"):
             ek = self.kinetic / np.maximum(self.kinetic.sum(1, keepdims=True), 1e-300)
             tables["kinetic"] = (100 * ek[keep], self.dof_names, "degree of freedom [-]",
-                                 "kinetic energy per DOF (seed 003 Table 3.4 layout)")
+                                 "kinetic energy per DOF (Hammami 2015, Table 3.4 layout)")
         if kind in ("energy", "strain"):
             if model is not None:
-                labels, ep = strain_energy_table(model, self)
+                labels, ep = model.strain_energy_table(self)
             else:
                 labels = self.spring_names
                 ep = self.strain / np.maximum(self.strain.sum(1, keepdims=True), 1e-300)
             tables["strain"] = (100 * ep[keep], labels, "spring [-]",
                                 "strain energy per spring"
-                                + (" (seed 003 Table 3.5 layout)" if model is not None else ""))
+                                + (" (Hammami 2015, Table 3.5 layout)" if model is not None
+                                   else ""))
         return plot_mode_energies(self.freq_hz[keep], np.nonzero(keep)[0] + 1, tables, ax)
 
 
-def _classify(model: PlanetaryModel, phi: np.ndarray, tol: float = 1e-3) -> str:
-    """Lin & Parker mode type of a subspace ``phi`` (full coordinates, columns)."""
-    m = model.mass_diag
-    trans, rot, plan = 0.0, 0.0, 0.0
-    for b in model.bodies.values():
-        e = (m[b.dofs, None] * phi[b.dofs] ** 2).sum()
-        if b.kind == "central":
-            trans += (m[b.dofs[:2], None] * phi[b.dofs[:2]] ** 2).sum()
-            rot += (m[b.dofs[2], None] * phi[b.dofs[2]] ** 2).sum()
-        elif b.kind == "planet":
-            plan += e
-        else:
-            rot += e
-    tot = trans + rot + plan
-    if tot <= 0:
-        return "mixed"
-    # planets of each stage moving alike (same ζ, η, u): the rotational-mode signature
-    alike = True
-    scale = np.sqrt(np.max(m[:, None] * phi**2))
-    for info in model.stages.values():
-        ps = [model.bodies[info.bodies[f"planet{i + 1}"]] for i in range(len(info.psi))]
-        for p in ps[1:]:
-            if np.max(np.abs(phi[p.dofs] - phi[ps[0].dofs])) * np.sqrt(ps[0].mass) > tol * scale:
-                alike = False
-    if trans / tot < tol and alike:
-        return "rotational"
-    if rot / tot < tol and trans / tot > tol:
-        return "translational"
-    if (trans + rot) / tot < tol:
-        return "planet"
-    return "mixed"
+#: Names that moved to :mod:`geardyn.models.planetary.modal` (the solver knows no model);
+#: reached here only by old imports, resolved on first use.
+_MOVED = ("modes", "campbell", "strain_energy_table")
 
 
-def modes(
-    model: PlanetaryModel,
-    rtol: float = 1e-6,
-    atol_hz: float = 1e-3,
-    zero_hz: float = 1e-2,
-) -> ModalResult:
-    """Natural frequencies, shapes, multiplicities, types and energies (seed 003 eqs 3.27-3.29).
+def __getattr__(name: str):  # noqa: ANN202 - module attribute hook (PEP 562)
+    if name in _MOVED:
+        from geardyn.models.planetary import modal
 
-    ``rtol``/``atol_hz`` decide when frequencies are degenerate; modes below ``zero_hz`` are
-    rigid-body modes (0 Hz). Generic part: :func:`geardyn.solve.eigen.eigenmodes`.
-    """
-    mm = model.mass_matrix()
-    em = eigenmodes(mm, model.stiffness_matrix(), zero_hz=zero_hz, rtol=rtol, atol_hz=atol_hz)
-    freq, phi = em.freq_hz, em.shapes
-    t = model.transform
-    types = [""] * len(freq)
-    for g in em.groups:
-        kind = "rigid" if em.rigid[g[0]] else _classify(model, t @ phi[:, g])
-        for i in g:
-            types[i] = kind
-    kvec = np.array([s.k for s in model.springs])
-    return ModalResult(
-        freq,
-        phi,
-        em.multiplicity,
-        types,
-        kinetic_energy(mm, freq, phi),
-        strain_rank_one(phi, model.spring_vectors(), kvec),
-        model.names,
-        [s.name for s in model.springs],
-        [s.bin for s in model.springs],
-        participation(mm, phi),
-    )
-
-
-def campbell(model: PlanetaryModel, carrier_speeds_rad_s: np.ndarray, n_modes: int | None = None,
-             track: bool = False) -> xr.DataArray:
-    """Natural frequencies (Hz) vs carrier speed Ω with gyroscopic and centripetal terms.
-
-    Quadratic eigenproblem of seed 003 eq 3.1 (homogeneous part) solved in state-space form
-    (:func:`geardyn.solve.eigen.campbell`, every stage's frame at the carrier speed); returns
-    the ``n_modes`` lowest non-negative frequencies per speed, sorted, or followed mode by mode
-    along the speeds with ``track``.
-    """
-    mm = model.mass_matrix()
-    n_modes = n_modes or mm.shape[0]
-    out = eigen_campbell(mm, model.stiffness_matrix(),
-                         [(1.0, model.gyroscopic_matrix(), model.centripetal_matrix())],
-                         carrier_speeds_rad_s, n_modes, track=track)
-    return xr.DataArray(
-        out,
-        dims=("carrier_speed", "mode"),
-        coords={"carrier_speed": carrier_speeds_rad_s, "mode": np.arange(1, n_modes + 1)},
-        name="frequency",
-        attrs={"units": "Hz", "carrier_speed_units": "rad/s"},
-    )
-
-
-def strain_energy_table(model: PlanetaryModel, res: ModalResult) -> tuple[list[str], np.ndarray]:
-    """Strain energy per mode in the seed 003 Table 3.5 layout (fractions of the total).
-
-    Per stage: bearings of carrier, ring, sun (x, y, rotation) and of each planet (radial,
-    tangential, rotation — the last is always 0, planets have no rotational support); then per
-    stage the ring–planet and sun–planet meshes. Springs outside that layout (inter-stage
-    shafts, rotor supports) are appended as extra bins so that every row sums to 1.
-    """
-    idx = {s.name: i for i, s in enumerate(model.springs)}
-    labels: list[str] = []
-    cols: list[np.ndarray] = []
-    zero = np.zeros(res.strain.shape[0])
-    used: set[int] = set()
-
-    def take(name: str, label: str) -> None:
-        labels.append(label)
-        if name in idx:
-            cols.append(res.strain[:, idx[name]])
-            used.add(idx[name])
-        else:
-            cols.append(zero)
-
-    for info in model.stages.values():
-        for role in ("carrier", "ring", "sun"):
-            b = info.bodies[role]
-            for d in ("x", "y", "u"):
-                take(f"{b}.bearing.{d}", f"bearing of {b} ({d})")
-        for i in range(len(info.psi)):
-            b = info.bodies[f"planet{i + 1}"]
-            for d in ("zeta", "eta", "u"):
-                take(f"{b}.bearing.{d}", f"bearing of {b} ({d})")
-    for info in model.stages.values():
-        for mesh in ("ring", "sun"):
-            for i in range(len(info.psi)):
-                b = info.bodies[f"planet{i + 1}"]
-                take(f"{b}.mesh_{mesh}", f"mesh {info.bodies[mesh]}-{b}")
-    for i, s in enumerate(model.springs):
-        if i not in used:
-            labels.append(s.bin or s.name)
-            cols.append(res.strain[:, i])
-    e = np.array(cols).T
-    e[[t == "rigid" for t in res.mode_type]] = 0.0  # round-off only
-    tot = e.sum(1, keepdims=True)
-    return labels, np.divide(e, tot, out=np.zeros_like(e), where=tot > 0)
+        return getattr(modal, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -10,7 +10,7 @@ import pytest
 
 from geardyn.config.loader import load_config
 from geardyn.models.planetary.build import model_from_config
-from geardyn.solve.modal import modes
+from geardyn.models.planetary.modal import modes
 
 from ._bench import EX
 

@@ -109,7 +109,7 @@ def axis_directions(tree: list[tuple[str, str]], kin: KinematicAnalysis) -> dict
             raise KinematicsError(
                 f"link '{link}' turning in '{parent}': its relative angular velocity is not "
                 f"along one axis in every motion (off-axis part {off:.3g}); check the pitch "
-                "angles of its gears (seed 000 §2.2)")
+                "angles of its gears (Penaud et al. 2012, §2.2)")
     return dict(kin.axes)
 
 
@@ -157,7 +157,7 @@ def _real_row(row: np.ndarray, where: str) -> tuple[np.ndarray, float]:
         raise KinematicsError(
             f"{where}: the contact velocities of the two gears are not along one tooth axis "
             f"(imaginary residue {np.abs(r.imag).max():.3g}); check the pitch angles "
-            "(seed 000 §2.2)")
+            "(Penaud et al. 2012, §2.2)")
     return r.real, psi
 
 
@@ -417,7 +417,7 @@ def model_from_config(cfg: object, inputs: Sequence[str] | None = None) -> CoreM
     geometry: dict[str, tuple[float, float, float]] = {}
     entries = getattr(cfg, "gear_geometry", None) or []
     if entries:
-        from geardyn.config.gears import _matches
+        from geardyn.config.gears import matches as _matches
 
         for m in graph.meshes:
             e = next((e for e in entries if _matches(e.pair, m.name, m.stage)), None)
@@ -431,8 +431,8 @@ def model_from_config(cfg: object, inputs: Sequence[str] | None = None) -> CoreM
     wanted = {m.name for m in graph.meshes
               if _pair_size(m, spec).settings.model == "gear_geometry"}
     if wanted:
-        from geardyn.config.gears import pair_model
         from geardyn.gears.pe_stiffness import mesh_stiffness
+        from geardyn.models.gear_pairs import pair_model
 
         for name in wanted:
             pe[name] = mesh_stiffness(pair_model(cfg, name).geometry,

@@ -230,7 +230,7 @@ def standard_contact_ratio(sd: StageDynamics, which: str, zs: int, zr: int, zp: 
                           ) from None
     if not 1.0 <= eps < 3.0:
         raise ConfigError(f"{field}: a tooth fault on this mesh needs a contact ratio in [1, 3) "
-                          f"(seed 004 ch. 5 covers 1 to 3 pairs); the standard-tooth value is "
+                          f"(Wang 2010, ch. 5 covers 1 to 3 pairs); the standard-tooth value is "
                           f"{eps:.4g}: give contact_ratio")
     return float(eps)
 

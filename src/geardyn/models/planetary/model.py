@@ -36,11 +36,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from geardyn.errors import ConfigError
 from geardyn.models.core.assembly import Assembly, RankOne
+
+if TYPE_CHECKING:
+    from geardyn.solve.modal import ModalResult
 
 CENTRAL = ("carrier", "ring", "sun")  # block order of seed 003 eq 3.26 / Table 3.4
 
@@ -191,6 +195,13 @@ class PlanetaryModel:
         v = np.zeros(self.n_full)
         v[b.dofs[-1]] = 1.0 / b.radius
         return v @ self.transform
+
+    def strain_energy_table(self, res: ModalResult) -> tuple[list[str], np.ndarray]:
+        """Strain energy of the modes ``res`` in the Hammami 2015 Table 3.5 layout
+        (:func:`geardyn.models.planetary.modal.strain_energy_table`)."""
+        from geardyn.models.planetary.modal import strain_energy_table
+
+        return strain_energy_table(self, res)
 
 
 @dataclass

@@ -251,8 +251,8 @@ def _driver_order(t, pair_shafts) -> dict[str, int]:
 
 def build_model(cfg, mesh_points_per_cycle: int | None = None) -> TransmissionModel:  # noqa: ANN001
     """Assemble the transmission of a loaded :class:`~geardyn.config.GeardynConfig`."""
-    from geardyn.config.gears import pair_model
     from geardyn.gears.pe_stiffness import mesh_stiffness
+    from geardyn.models.gear_pairs import pair_model
 
     t = cfg.transmission
     if t is None:

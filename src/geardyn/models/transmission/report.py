@@ -188,7 +188,8 @@ def seed002_figures(cfg, outdir: Path, nsc: bool = True) -> list[Path]:  # noqa:
         ax.set_ylim(0, 150)
         ax.set_xlabel("low-speed shaft angle [rev] (speed 200 → 900 rpm)")
         ax.set_ylabel("order [ev/rev]")
-        ax.set_title("low-speed shaft IAS angular spectrogram, NSC (cf. seed 002 Fig 9)")
+        ax.set_title("low-speed shaft IAS angular spectrogram, NSC "
+                     "(cf. Thibault et al. 2024, Fig 9)")
         save(fig, "transmission_nsc_spectrogram.png")
     fig, axs = plt.subplots(len(runs), 1, figsize=(10, 3.2 * len(runs)),
                             constrained_layout=True, squeeze=False)
@@ -196,7 +197,8 @@ def seed002_figures(cfg, outdir: Path, nsc: bool = True) -> list[Path]:  # noqa:
         ax.semilogy(s.order.values, s.values, lw=0.6, color="0.2")
         mark(ax, 80)
         ax.set_xlim(0, 80)
-        ax.set_title(f"low-speed shaft IAS order spectrum, {name} (cf. seed 002 Figs 10-11)")
+        ax.set_title(f"low-speed shaft IAS order spectrum, {name} "
+                     "(cf. Thibault et al. 2024, Figs 10-11)")
         ax.set_ylabel("amplitude [rad/s]")
     axs[-1, 0].set_xlabel("order [ev/rev of the low-speed shaft]; green: BPFO harmonics, "
                           "red/purple: low/high mesh ± BPFO")
@@ -209,9 +211,9 @@ def seed002_figures(cfg, outdir: Path, nsc: bool = True) -> list[Path]:  # noqa:
     _, s_sp = spec(simulate(_cfg_variant(cfg, 360.0, 430.0, 20.0, spall=ang)))
     _, s_cr = spec(simulate(_cfg_variant(cfg, 360.0, 430.0, 20.0, crack_m=0.001)))
     for name, s_f, title in (("spall", s_sp, "outer-race spall on the low-speed ball bearing "
-                                                "(cf. seed 002 Fig 14)"),
+                                                "(cf. Thibault et al. 2024, Fig 14)"),
                              ("crack", s_cr, "root crack 1 mm on the 55-tooth wheel "
-                                             "(cf. seed 002 Fig 16)")):
+                                             "(cf. Thibault et al. 2024, Fig 16)")):
         fig, ax = plt.subplots(figsize=(10, 3.5), constrained_layout=True)
         ax.semilogy(s_asc.order.values, s_asc.values, lw=0.6, color="tab:blue", label="healthy")
         ax.semilogy(s_f.order.values, s_f.values, lw=0.6, color="tab:red", alpha=0.8,

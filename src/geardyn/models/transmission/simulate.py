@@ -156,7 +156,7 @@ def damping_operator(prep: Prepared, cutoff_hz: float | None
             f"elastic mode ({elastic[0]:.4g} Hz): every mode would get ζ·f/f_c, up to "
             f"{m.modal_damping * elastic[-1] / cutoff_hz:.3g} on the highest, and the damped "
             "explicit step would shrink accordingly; choose a cutoff above the modes of "
-            "interest (e.g. 2-4 kHz for seed 002)")
+            "interest (e.g. 2-4 kHz for Thibault et al. 2024)")
     op = explicit.modal_damping(m.M, 0.5 * (prep.K_lin + prep.K_lin.T), m.modal_damping,
                                 cutoff_hz)
     xi = float(op.ratios[-1])
