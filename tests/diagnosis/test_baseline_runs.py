@@ -93,3 +93,12 @@ def test_evidence_null_grouped_by_runs_is_wider() -> None:
     assert a.threshold > b.threshold
     assert a.df < b.df == 11
     assert a.bound(1e-3) == pytest.approx(a.threshold, rel=1e-12)
+
+
+def test_two_null_values_at_a_small_level_give_an_infinite_threshold() -> None:
+    # t_1 at α = 1.3e-4 times a log spread of 0.37 is beyond exp's range: no usable threshold,
+    # never an OverflowError (null of the input-ball BPFO band energy in an FE record)
+    ev = evidence_from_null("input ball", "BPFO band energy", 0.3, [0.154, 0.258], 1.3e-4)
+    assert ev.threshold == math.inf
+    assert not ev.passed
+    assert ev.bound(1e-9) == math.inf

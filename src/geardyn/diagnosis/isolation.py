@@ -449,7 +449,7 @@ class Evidence:
             scale, df = self.scale, self.df
         else:
             scale, df = max(self.std, LOG_SPREAD_FLOOR) * math.sqrt(1.0 + 1.0 / self.n), self.n - 1
-        return math.exp(math.log(self.mean) + float(student.isf(alpha, df)) * scale)
+        return _exp_bound(math.log(self.mean) + float(student.isf(alpha, df)) * scale)
 
     def passes_at(self, alpha: float) -> bool:
         """The record's value exceeds :meth:`bound` at ``alpha``."""
@@ -466,6 +466,12 @@ class Evidence:
 #: floor, not a tuning — below 1 % the members agree to within round-off of the statistics'
 #: own estimators, and a smaller spread would make any change of a few per cent "evidence".
 LOG_SPREAD_FLOOR = 0.01
+
+
+def _exp_bound(log_bound: float) -> float:
+    """exp of a log-scale bound; a bound beyond exp's range (a null of 2 values has 1 degree
+    of freedom, and t_1 at a small α is huge) is no usable threshold: infinite."""
+    return math.exp(log_bound) if log_bound < 700.0 else math.inf
 
 
 def evidence_from_null(component: str, measure: str, value: float, null: Sequence[float],
@@ -503,7 +509,7 @@ def evidence_from_null(component: str, measure: str, value: float, null: Sequenc
     mu, sd, df = prediction_spread(logs, tags)
     s = max(float(np.std(logs, ddof=1)), LOG_SPREAD_FLOOR)
     scale = max(sd, LOG_SPREAD_FLOOR * math.sqrt(1.0 + 1.0 / n))
-    threshold = math.exp(mu + float(student.isf(alpha, df)) * scale)
+    threshold = _exp_bound(mu + float(student.isf(alpha, df)) * scale)
     z = (math.log(max(float(value), tiny)) - mu) / scale
     p = float(student.sf(z, df))
     return Evidence(component, measure, float(value), math.exp(mu), s, threshold, z=z, p=p,
