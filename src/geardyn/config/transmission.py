@@ -281,7 +281,7 @@ class SimulationConfig(_Strict):
         False, description="gyroscopic terms Ω_s(t) G_s q̇ of shafts and wheels at each "
         "shaft's current speed in the time integration"
     )
-    integrator: Literal["explicit", "newmark", "exponential", "auto"] = Field(
+    integrator: Literal["explicit", "newmark", "exponential", "modal", "auto"] = Field(
         "auto", description="explicit: velocity Verlet at 0.8 × the stability limit; newmark: "
         "implicit average acceleration with Newton iterations, step set by "
         "resolved_frequency_hz; exponential: exact modal integration of a linear rotor at "

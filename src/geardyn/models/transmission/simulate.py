@@ -239,10 +239,23 @@ def simulate(
                               f"linear rotors at constant speed only: {reason}")
         if not reason:
             scheme = "exponential"
+    if t.simulation.integrator in ("auto", "modal") and scheme != "exponential":
+        reason = modal_reason(model, t, damping, gyro0, sl is not None and sl.start_rpm
+                              != sl.end_rpm)
+        if t.simulation.integrator == "modal" and reason:
+            raise ConfigError("transmission.simulation.integrator: 'modal' needs modal "
+                              f"damping and no speed-dependent terms: {reason}")
+        if not reason:
+            scheme = "modal"
+    ticks = 1
     if scheme == "newmark":
         dt = t.simulation.time_step_s or dt_newmark
     elif scheme == "exponential":
         dt = t.simulation.time_step_s or 1.0 / t.simulation.record_rate_hz
+    elif scheme == "modal":
+        dt, ticks, rec_ticks = modal_step(
+            t.simulation, mesh_period, w_top * max(ratios.values()) / (2 * math.pi),
+            float(model.meshes.npc.max(initial=0.0)))
     else:
         dt = t.simulation.time_step_s or 0.8 * dt_limit
     if check_step:
@@ -252,6 +265,8 @@ def simulate(
                         stable_limit_s=dt_limit if scheme == "explicit" else None)
     n_steps = int(math.ceil(duration / dt))
     rec_every = max(1, int(round(1.0 / (t.simulation.record_rate_hz * dt))))
+    if scheme == "modal" and ticks == 1:
+        rec_ticks = rec_every
     # rigid-body initial speeds on θz
     v = np.zeros(model.ndof)
     for s, ids in model.shaft_nodes.items():
@@ -304,6 +319,14 @@ def simulate(
                                                prep.q0.copy(), v, dt, n_steps, rec_dofs)
         rec = rec[::rec_every]
         n_done, status = n_steps, 0
+    elif scheme == "modal":
+        from geardyn.solve import modal_fe
+
+        ports = modal_fe.port_dofs(model, [common[2], common[3], common[4]])
+        setup = modal_fe.ModalSetup(model.M, model.K, prep.K_lin, dense_damping(damping),
+                                    ports, rec_dofs, dt, ticks)
+        rec, energy, n_done, status, q, vend, _ = modal_fe.run_loop(
+            setup, prep.q0.copy(), v, n_steps, rec_ticks, *common, control=control)
     elif scheme == "newmark":
         from geardyn.solve import implicit_fe
 
@@ -390,6 +413,55 @@ def choose_integrator(sim, dt_limit: float, mesh_period: float | None,  # noqa: 
     if scheme == "auto":
         scheme = "newmark" if dt_newmark >= AUTO_RATIO * 0.8 * dt_limit else "explicit"
     return scheme, dt_newmark
+
+
+#: Modal integrator: steps per period of the highest resolved frequency. The linear structure
+#: is integrated exactly, so the step only has to follow the port forces; at the default
+#: resolved frequency (a quarter of the stiffness table's points per mesh cycle) four points
+#: per period are one step per point of the mesh-stiffness table, between which the stiffness
+#: is interpolated linearly (the mesh force has a kink at every table point: a step must not
+#: straddle two of them).
+MODAL_STEPS_PER_PERIOD = 4
+
+
+def modal_step(sim, mesh_period: float | None, shaft_hz: float,  # noqa: ANN001
+               table_points: float) -> tuple[float, int, int]:
+    """(step [s], ticks per step, ticks per record) of the modal integrator: the step
+    resolves ``resolved_frequency_hz`` (default as :func:`choose_integrator`) with
+    :data:`MODAL_STEPS_PER_PERIOD` steps per period; records keep ``record_rate_hz`` exactly
+    (a tick divides the record interval; the step is a whole number of ticks, at least 3/4 of
+    the criterion's step). ``time_step_s`` given: that step, a record every
+    round(1/(rate · step)) steps (as the other integrators)."""
+    t_rec = 1.0 / sim.record_rate_hz
+    if sim.time_step_s:
+        return sim.time_step_s, 1, max(1, int(round(t_rec / sim.time_step_s)))
+    f = sim.resolved_frequency_hz
+    if f is None:
+        harmonics = max(1.0, MESH_HARMONICS_PER_POINT * table_points)
+        f = max(harmonics / mesh_period if mesh_period else 0.0, SHAFT_ORDERS * shaft_hz)
+    if not f > 0:
+        f = 0.5 / t_rec
+    h = 1.0 / (MODAL_STEPS_PER_PERIOD * f)
+    per_rec = max(1, math.ceil(3.0 * t_rec / h - 1e-9))
+    tick = t_rec / per_rec
+    ticks = max(1, int(math.floor(h / tick + 1e-9)))
+    return ticks * tick, ticks, per_rec
+
+
+def modal_reason(model: TransmissionModel, t, damping, gyro0,  # noqa: ANN001
+                 speed_varies: bool) -> str:
+    """Why the modal integrator does not apply ('' when it does): it needs a damping
+    diagonal in the modes of (M, K_lin) and no speed-dependent linear terms."""
+    if gyro0 is not None:
+        return "gyroscopic terms (speed-dependent, not modal)"
+    if t.unbalance or t.external_loads:
+        return "unbalances and external loads are not port forces of this integrator"
+    if any(sp.table is not None for sp in model.supports) and (
+            speed_varies or model.drive_torque != 0.0 or model.load_torque != 0.0):
+        return "supports tabulated against speed"
+    if model.C_lin is not None and np.any(model.C_lin):
+        return "support or dashpot damping (not diagonal in the modes)"
+    return ""
 
 
 def dense_damping(damping) -> np.ndarray:  # noqa: ANN001
