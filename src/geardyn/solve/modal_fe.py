@@ -436,7 +436,11 @@ def run_loop(
           "bl": np.zeros((nb, 3)), "mf": np.zeros(nm), "energy": np.zeros(8),
           "sc": np.zeros(4)}
     run_id = {"scheme": "modal-fe", "nsteps": int(n_steps), "dt": float(dt),
-              "rec_every": int(K), "ticks": int(m), "n": int(n), "ncols": int(rec.shape[1])}
+              "rec_every": int(K), "ticks": int(m), "n": int(n), "ncols": int(rec.shape[1]),
+              # the model: its modal damping and frequencies (another mass or damping is
+              # another run)
+              "modal_damping": float(np.sum(setup.cdamp)), "modal_stiffness": float(
+                  np.sum(setup.w2))}
 
     def recorded(steps: int) -> int:  # rows once steps 0 … steps − 1 are done
         return (steps * m + K - 1) // K
