@@ -97,15 +97,46 @@ def _geardyn(n: int, integrator: str, h: float | None) -> dict:
             "step_s": ds.attrs["time_step_s"]}
 
 
-def _seed002_300rev() -> float:
+def _seed002_300rev(integrator: str = "auto") -> tuple[float, str, float]:
+    """(CPU s, integrator, step) of the NSC 200-900 rpm / 300 revolution run with the default
+    (consistent) mass, after a short run that loads the compiled kernels."""
     from geardyn.config.loader import load_config, parse_config
     from geardyn.models.transmission import simulate
 
     d = load_config(ROOT / "examples" / "seed002_transmission.toml").model_dump(exclude_none=True)
     d["transmission"]["speed_law"].update(start_rpm=200.0, end_rpm=900.0, revolutions=300.0)
+    d["transmission"]["simulation"]["integrator"] = integrator
+    cfg = parse_config(d)
+    simulate(cfg, revolutions=0.05)
     c0 = time.process_time()
-    ds = simulate(parse_config(d))
-    return time.process_time() - c0, ds.attrs["integrator"]
+    ds = simulate(cfg)
+    return time.process_time() - c0, ds.attrs["integrator"], ds.attrs["time_step_s"]
+
+
+def _seed002_scaling(integrator: str) -> tuple[list[dict], float]:
+    """CPU s per simulated second of the seed 002 transmission at 400 rpm with 5, 10 and 20
+    elements per shaft (nodes scaled, :func:`benchmarks.bench_transmission._scaled_cfg`) and
+    the fitted exponent of the cost against the element count."""
+    from benchmarks.bench_transmission import _scaled_cfg
+    from geardyn.config.loader import parse_config
+    from geardyn.models.transmission import build_model, prepare, simulate
+
+    rows, els, cost = [], [], []
+    for el in (5, 10, 20):
+        d = _scaled_cfg(el).model_dump(exclude_none=True)
+        d["transmission"]["simulation"]["integrator"] = integrator
+        cfg = parse_config(d)
+        prep = prepare(build_model(cfg), "output")
+        simulate(cfg, revolutions=0.02, prepared=prep)
+        c0 = time.process_time()
+        ds = simulate(cfg, revolutions=0.5, prepared=prep)
+        c = (time.process_time() - c0) / float(ds.time[-1])
+        els.append(3 * el)
+        cost.append(c)
+        rows.append({"code": f"geardyn {ds.attrs['integrator']}, seed 002 at 400 rpm, "
+                     f"{3 * el} shaft elements", "step_s": ds.attrs["time_step_s"],
+                     "cpu_s_per_sim_s": c})
+    return rows, float(np.polyfit(np.log(els), np.log(cost), 1)[0])
 
 
 def run() -> list[dict]:
@@ -146,8 +177,16 @@ def run() -> list[dict]:
             e = math.log(cost[(level, 24, k)] / cost[(level, 12, k)]) / math.log(2.0)
             rows.append({"level": level, "code": f"geardyn {k}: cost ∝ elements^p",
                          "note": f"p = {e:.2f} (12 → 24 elements; target ≤ 1.3)"})
-    cpu, scheme = _seed002_300rev()
+    for k in ("modal", "explicit"):
+        srows, p = _seed002_scaling(k)
+        rows += srows
+        rows.append({"code": f"geardyn {k}, seed 002 transmission: cost ∝ elements^p",
+                     "note": f"p = {p:.2f} (15 → 60 elements; target ≤ 1.3)"})
+    cpu, scheme, h = _seed002_300rev()
+    cpu_x, _, hx = _seed002_300rev("explicit")
     rows.append({"code": "seed 002 NSC 200-900 rpm / 300 rev, default (consistent) mass",
-                 "cpu_s_per_sim_s": "", "note": f"{cpu:.1f} CPU s with '{scheme}' (target ≤ 8; "
-                 f"load average {os.getloadavg()[0]:.1f})"})
+                 "step_s": h, "cpu_s_per_sim_s": "",
+                 "note": f"{cpu:.1f} CPU s with '{scheme}' (target ≤ 8); explicit loop "
+                 f"(h = {hx:.3g} s) {cpu_x:.1f} CPU s in the same run: {cpu_x / cpu:.2f}× "
+                 f"(load average {os.getloadavg()[0]:.1f})"})
     return rows

@@ -28,14 +28,13 @@ unconverged after :data:`MAX_ITER` iterations is counted (``newton_unconverged_s
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 from numba import njit
 
 from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
-from geardyn.solve.control import RunControl, check_record_size
+from geardyn.solve.control import RunControl, check_record_size, drive_chunks
 from geardyn.solve.explicit import (
     E_EXT,
     E_IN,
@@ -327,28 +326,18 @@ def run_loop(
                xargs)
         done = 0
 
-    def state() -> dict:
-        return {**run_id, "step": done, **st, "rec": rec[: _recorded(done, rec_every)]}
+    def state(steps: int) -> dict:
+        return {**run_id, "step": steps, **st, "rec": rec[: _recorded(steps, rec_every)]}
 
-    status = 0
-    while done < n_steps:
-        m = ctl.next_chunk(done, n_steps)
-        w = time.perf_counter()
-        reached, code = run_chunk(
+    def advance(start: int, stop: int) -> tuple[int, int]:
+        return run_chunk(
             st["q"], st["v"], st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
-            st["energy"], st["sc"], st["stats"], done, done + m, dt, rec_every, rec, Mcsr, LU,
+            st["energy"], st["sc"], st["stats"], start, stop, dt, rec_every, rec, Mcsr, LU,
             perm, lbw, ubw, Kc, Cc, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign,
             ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp, rec_dofs, gargs, xargs,
             st["fx"], rtol)
-        w = time.perf_counter() - w
-        if code != 0:
-            done, status = reached, 1
-            break
-        done += m
-        ctl.chunk_done(m, w, done, n_steps, state)
-        if ctl.stop_requested and done < n_steps:
-            status = 2
-            break
+
+    done, status = drive_chunks(ctl, done, n_steps, advance, state)
     if status == 0 and n_steps % rec_every == 0:
         sc = st["sc"]
         record(rec, n_steps // rec_every, sc[0], sc[2], st["q"], st["v"], st["bl"], st["mf"],

@@ -9,19 +9,25 @@ stiffness of the static preload, K_lin = K + J (J = −∂F_conn/∂q, symmetric
 an identity (no approximation). When C is diagonal in the modes Φ of (M, K_lin) (modal
 damping, seed 002 §2.1; the truncated ModalDamping too), every mass-normalised modal
 coordinate obeys η̈_j + 2ζ_jω_j η̇_j + ω_j² η_j = φ_jᵀ g, and g acts on the port DOFs only
-(bearing and mesh nodes, drive and load). Over a step h each mode is advanced exactly for a
-force linear in time between the step's end values (first-order hold: the "exact" piecewise-
-linear recurrence of Chopra, *Dynamics of Structures*, 4th ed. 2012, §5.2; its coefficients
-from the exponential of the augmented matrix, Van Loan, IEEE TAC 23, 1978): no stability limit
-from the linear structure, however stiff its highest (axial, torsional) modes.
+(bearing and mesh nodes, drive and load, recorded DOFs). Over a step h each mode is advanced
+exactly for a force quadratic in time through its values at the previous, current and next
+step (a second-order hold; the exact piecewise-polynomial recurrence of Chopra, *Dynamics of
+Structures*, 4th ed. 2012, §5.2, one degree higher), its coefficients from the exponential of
+the augmented matrix (Van Loan, IEEE TAC 23, 1978): no stability limit from the linear
+structure, however stiff its highest (axial, torsional) modes. The rigid-body modes keep the
+ω² the eigen-solver gives (tiny, of either sign), so that Σ M φ ω² φᵀ M is K_lin itself.
 
-The end-of-step force comes from one evaluation per step (Cox & Matthews, J. Comput. Phys.
-176, 2002, ETD2 predictor, then one correction without re-evaluation — a PEC scheme): predict
-with g linearly extrapolated from the last two steps, evaluate g at the predicted state, then
-correct the modal state with that value (the trapezoidal first-order hold). Second order in h
-on the port forces; exact on the linear structure. The step follows the accuracy of the port
-forces' piecewise-linear representation (see
-:func:`geardyn.models.transmission.simulate.choose_integrator`).
+The end-of-step force comes from one evaluation per step (a predictor-corrector in PEC mode,
+as the exponential time differencing of Cox & Matthews, J. Comput. Phys. 176, 2002): predict
+with the hold's end value extrapolated linearly from the last two steps, evaluate g at the
+predicted state, then correct the modal state with the evaluated value (no second
+evaluation). Exact on the linear structure; the error is that of the hold's representation of
+the port forces, so the step follows the highest frequency they must resolve
+(:func:`geardyn.models.transmission.simulate.modal_step`: by default one step per point of
+the mesh-stiffness table at the top mesh frequency — the stiffness is interpolated linearly
+between table points, so the mesh force has a kink at each). Records keep the record rate
+exactly: a record inside a step is the exact modal state at that time under the step's hold
+(bearing and mesh records interpolated linearly between the step's evaluations).
 
 Cost per step: one evaluation of the bearing and mesh kernels (same kernels as
 :mod:`geardyn.solve.explicit`), the port projections Φ_P η, Φ_P η̇ and Φ_Pᵀ g_P (3 n p for p
@@ -32,13 +38,12 @@ modal updates; no n² damping product.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 from numba import njit
 
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
-from geardyn.solve.control import RunControl, check_record_size
+from geardyn.solve.control import RunControl, check_record_size, drive_chunks
 from geardyn.solve.explicit import (
     E_IN,
     E_MODAL,
@@ -54,8 +59,9 @@ MODAL_TOL = 1e-9
 
 def modal_coefficients(w2: np.ndarray, c: np.ndarray, h: float, tau: float | None = None
                        ) -> np.ndarray:
-    """(2, 5, n) exact coefficients of one step h (or of the state at ``tau`` ≤ h into it) of η̈ + c η̇ + w2 η = p(t), p the quadratic
-    through p₋₁, p₀, p₁ at t = −h, 0, h (second-order hold):
+    """(2, 5, n) exact coefficients of one step h (or of the state at ``tau`` ≤ h into it)
+    of η̈ + c η̇ + w2 η = p(t), p the quadratic through p₋₁, p₀, p₁ at t = −h, 0, h
+    (second-order hold):
     [η₁, η̇₁] = cf[:, 0] η₀ + cf[:, 1] η̇₀ + cf[:, 2] p₋₁ + cf[:, 3] p₀ + cf[:, 4] p₁.
     With s = t/h, p = a + b s + c₂ s², a = p₀, b = (p₁ − p₋₁)/2, 2c₂ = p₁ − 2p₀ + p₋₁; the
     exponential of the augmented system (η, η̇, p, h ṗ, h² p̈) gives the response to a, b, 2c₂
@@ -466,28 +472,18 @@ def run_loop(
         st["sc"][:] = (0.0, integ0, td, _damping_power(setup.cdamp, st["deta"]))
         done = 0
 
-    def state() -> dict:
-        return {**run_id, "step": done, **st, "rec": rec[: recorded(done)]}
+    def state(steps: int) -> dict:
+        return {**run_id, "step": steps, **st, "rec": rec[: recorded(steps)]}
 
-    status = 0
-    while done < n_steps:
-        c = ctl.next_chunk(done, n_steps)
-        w = time.perf_counter()
-        reached, code = run_chunk(
+    def advance(start: int, stop: int) -> tuple[int, int]:
+        return run_chunk(
             st["eta"], st["deta"], st["p0"], st["pprev"], st["q"], st["v"], st["fext"],
-            st["diss"], st["bl"], st["mf"], st["energy"], st["sc"], done, done + c, dt, m, K,
+            st["diss"], st["bl"], st["mf"], st["energy"], st["sc"], start, stop, dt, m, K,
             rec, setup.cf, setup.cd, setup.cdamp, setup.PhiT, setup.nv, setup.Phi, setup.Phr,
             setup.rec_dofs, setup.ports, *setup.J, bargs, margs, drive_dof, load_dof, ref_dof,
             drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp)
-        w = time.perf_counter() - w
-        if code != 0:
-            done, status = reached, 1
-            break
-        done += c
-        ctl.chunk_done(c, w, done, n_steps, state)
-        if ctl.stop_requested and done < n_steps:
-            status = 2
-            break
+
+    done, status = drive_chunks(ctl, done, n_steps, advance, state)
     if status == 0 and (n_steps * m) % K == 0:
         sc = st["sc"]
         _record(rec, n_steps * m // K, sc[0], sc[2], st["q"], st["v"], setup.rec_dofs,
