@@ -20,7 +20,24 @@ variable ``ROSS_PYTHON`` (default ``../ross-venv/bin/python`` beside the reposit
 through ``benchmarks/ross_rotor.py``; without it the ROSS rows say so and the ratios are not
 computed. Targets (issue 24): ≥ 3× faster than ROSS's fastest time response and ≥ 10× faster
 than ROSS's Newmark at both levels on 12 and 24 elements, cost ∝ elements^≤1.3, seed 002
-300-revolution run (NSC 200-900 rpm) ≤ 8 CPU s with the default mass.
+300-revolution run (NSC 200-900 rpm) ≤ 8 CPU s with the default mass. The seed 002 rows time
+the FE transmission with the modal integrator (its default) and the explicit loop in the same
+run: cost per simulated second at 400 rpm against the elements per shaft (5, 10, 20) and the
+NSC run.
+
+Measured (issue 24, session 4; shared 2-core machine, load average 8-9; ROSS 2.3.0), CPU s per
+simulated second (1×-amplitude error):
+
+    level el.  g. exponential   g. newmark      g. explicit    ROSS lsim       ROSS newmark
+    1e-4  12   0.0129 (1.2e-7)  0.151 (1.0e-4)  1.57 (6.3e-7)  0.119 (8.2e-5)  4.38 (1.0e-4)
+    1e-4  24   0.0289 (1.1e-7)  0.256 (1.0e-4)  5.60 (3.3e-7)  0.419 (8.2e-5)  6.89 (1.0e-4)
+    1e-6  12   0.0917 (1.2e-7)  1.59 (9.2e-7)   1.57           1.57 (9.4e-7)   42.7 (0.2 s)
+    1e-6  24   0.175 (1.2e-7)   2.74 (9.2e-7)   5.60           4.01 (9.4e-7)   73.2 (0.2 s)
+
+    speed-up of geardyn's fastest vs ROSS lsim: 9.3× / 14.5× (1e-4), 17.1× / 23.0× (1e-6);
+    vs ROSS Newmark ≥ 238×. Cost ∝ elements^p: exponential 1.17 / 0.93, newmark 0.76 / 0.79,
+    explicit 1.84. Seed 002 at 400 rpm, 15 → 60 shaft elements: modal p = 0.79, explicit
+    p = 2.20. Seed 002 NSC 300 rev: modal 13.9 CPU s, explicit 22.0 CPU s (target ≤ 8: not met).
 """
 
 from __future__ import annotations
