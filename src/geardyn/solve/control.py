@@ -93,8 +93,9 @@ def drive_chunks(ctl: RunControl, done: int, total: int,
                  advance: Callable[[int, int], tuple[int, int]],
                  state: Callable[[int], dict]) -> tuple[int, int]:
     """The chunk loop shared by the FE integrators (explicit, Newmark, modal): advance
-    ``done`` → ``total`` steps in chunks sized by ``ctl``, ``advance(start, stop)`` returning
-    (last step reached, 0 ok / 1 diverged); after each chunk ``ctl`` books it (progress,
+    ``done`` → ``total`` steps (or ticks) in chunks sized by ``ctl``, ``advance(start, stop)``
+    returning (step reached — ``stop`` for a fixed step, whole steps of a variable one —, 0 ok
+    / 1 diverged); after each chunk ``ctl`` books it (progress,
     estimate, a checkpoint of ``state(steps done)`` when due) and a stop request ends the run.
     Returns (steps done — for a divergence the step that failed —, status 0 ok, 1 diverged,
     2 stopped)."""
@@ -105,8 +106,9 @@ def drive_chunks(ctl: RunControl, done: int, total: int,
         w = time.perf_counter() - w
         if code != 0:
             return reached, 1
-        done += m
-        ctl.chunk_done(m, w, done, total, lambda d=done: state(d))
+        # a chunk may end a little before or after done + m (whole steps of a variable size)
+        ctl.chunk_done(reached - done, w, reached, total, lambda d=reached: state(d))
+        done = reached
         if ctl.stop_requested and done < total:
             return done, 2
     return done, 0

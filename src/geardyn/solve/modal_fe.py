@@ -42,6 +42,7 @@ import math
 import numpy as np
 from numba import njit
 
+from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
 from geardyn.solve.control import RunControl, check_record_size, drive_chunks
 from geardyn.solve.explicit import (
@@ -53,6 +54,9 @@ from geardyn.solve.explicit import (
     ref_sign_speed,
 )
 
+#: Records per segment of the run over which the step is constant (its speed from the
+#: schedule over the segment).
+SEGMENT_RECORDS = 1000
 #: Largest relative off-diagonal term of Φᵀ C Φ for C to count as modal (diagonal) damping.
 MODAL_TOL = 1e-9
 
@@ -68,22 +72,22 @@ def modal_coefficients(w2: np.ndarray, c: np.ndarray, h: float, tau: float | Non
     (Van Loan, IEEE TAC 23, 1978)."""
     from scipy.linalg import expm
 
-    out = np.zeros((w2.size, 2, 5))
-    for j in range(w2.size):
-        A = np.zeros((5, 5))
-        A[0, 1] = 1.0
-        A[1, 0] = -w2[j]
-        A[1, 1] = -c[j]
-        A[1, 2] = 1.0
-        A[2, 3] = 1.0 / h
-        A[3, 4] = 1.0 / h
-        E = expm(A * (h if tau is None else tau))
-        g0, g1, g2 = E[:2, 2], E[:2, 3], E[:2, 4]
-        out[j, :, 0] = E[:2, 0]
-        out[j, :, 1] = E[:2, 1]
-        out[j, :, 2] = -0.5 * g1 + g2
-        out[j, :, 3] = g0 - 2.0 * g2
-        out[j, :, 4] = 0.5 * g1 + g2
+    n = w2.size
+    A = np.zeros((n, 5, 5))
+    A[:, 0, 1] = 1.0
+    A[:, 1, 0] = -w2
+    A[:, 1, 1] = -c
+    A[:, 1, 2] = 1.0
+    A[:, 2, 3] = 1.0 / h
+    A[:, 3, 4] = 1.0 / h
+    E = expm(A * (h if tau is None else tau))  # one 5 × 5 exponential per mode (batched)
+    g0, g1, g2 = E[:, :2, 2], E[:, :2, 3], E[:, :2, 4]
+    out = np.zeros((n, 2, 5))
+    out[:, :, 0] = E[:, :2, 0]
+    out[:, :, 1] = E[:, :2, 1]
+    out[:, :, 2] = -0.5 * g1 + g2
+    out[:, :, 3] = g0 - 2.0 * g2
+    out[:, :, 4] = 0.5 * g1 + g2
     return np.ascontiguousarray(out.transpose(1, 2, 0))
 
 
@@ -228,21 +232,24 @@ def _damping_power(cdamp, deta):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def run_chunk(
-    eta, deta, p0, pprev, q, v, fext, diss, bl, mf, energy, sc, step0, step1, dt, m, K,
+    eta, deta, p0, pprev, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K,
     rec, cf, cd, cdamp, PhiT, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs,
     drive_dof, load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive,
     max_disp,
 ):  # pragma: no cover - compiled
-    """Advance global steps ``step0`` → ``step1``: exact modal step for the port forces on a
-    quadratic hold, the end value predicted by linear extrapolation, evaluated once at the
-    predicted state, then corrected (PEC). Time in ticks of dt/m: a step is ``m`` ticks, a
-    record every ``K`` ticks (at a step start from the ports; inside a step by the exact
+    """Advance ``nsteps`` steps of ``m`` ticks from tick ``tick0``: exact modal step for the
+    port forces on a quadratic hold, the end value predicted by linear extrapolation, evaluated
+    once at the predicted state, then corrected (PEC). Time in ticks of ``u`` seconds (t =
+    tick · u): a step is ``m`` ticks (h = m u; ``cf``, ``cd`` its coefficients), a record
+    every ``K`` ticks (at a step start from the ports; inside a step by the exact
     modal state under the hold, coefficients ``cd[j]`` for tick j of the step). State: modal
     η, η̇, modal port forces ``p0`` (current) and ``pprev`` (previous step), q and v on the
     ports (at the state where the forces were evaluated), fext, diss, bl, mf, energy,
     sc = [t, ∫e, T_d, modal damping power]. Record columns as
-    :func:`geardyn.solve.explicit.run_chunk`. Returns (last step, status 0 ok / 1 diverged)."""
+    :func:`geardyn.solve.explicit.run_chunk`. Returns (tick reached, status 0 ok / 1 diverged
+    while advancing from that tick)."""
     n = eta.size
+    dt = m * u
     nb = bl.shape[0]
     nm = mf.size
     nd = rec_dofs.size
@@ -264,8 +271,8 @@ def run_chunk(
     td = sc[2]
     pd0 = sc[3]
     dense = False
-    for step in range(step0, step1):
-        tick = step * m
+    for s in range(nsteps):
+        tick = tick0 + s * m
         if tick % K == 0:
             if nbuf == 0:
                 r0 = tick // K
@@ -300,8 +307,7 @@ def run_chunk(
             deta[j] = (cf[1, 0, j] * e + cf[1, 1, j] * d + cf[1, 2, j] * pm + cf[1, 3, j] * pj
                        + cf[1, 4, j] * pe)
         _ports_state(PhiT, nv, eta, deta, ports, q, v)
-        t0 = t
-        t += dt
+        t = (tick + m) * u
         wr = _interp(t, t_ref, w_ref)
         err = wr - ref_sign_speed(v, ref_dof, ref_sign)
         integ += err * dt
@@ -322,7 +328,7 @@ def run_chunk(
                     if nbuf == 0:
                         r0 = (tick + jt) // K
                     w = jt / m
-                    _record_dense(buf, nbuf, t0 + w * dt, (1.0 - w) * td0 + w * td, jt - 1,
+                    _record_dense(buf, nbuf, (tick + jt) * u, (1.0 - w) * td0 + w * td, jt - 1,
                                   cd, e0, de0, pm0, pp0, p1, Phr, bl0, bl, mf0, mf, w, nd, nb,
                                   nm)
                     nbuf += 1
@@ -347,22 +353,28 @@ def run_chunk(
         sc[1] = integ
         sc[2] = td
         sc[3] = pd1
+        sc[5] += 1.0
         if not ok:
             rec[r0 : r0 + nbuf, :] = buf[:nbuf]
-            return step, 1
+            return tick, 1
     rec[r0 : r0 + nbuf, :] = buf[:nbuf]
-    return step1, 0
+    return tick0 + nsteps * m, 0
 
 
 class ModalSetup:
     """Modal basis, port DOFs and step coefficients of a transmission for :func:`run_loop`."""
 
     def __init__(self, M: np.ndarray, K: np.ndarray, K_lin: np.ndarray, C: np.ndarray,
-                 ports: tuple[np.ndarray, np.ndarray], rec_dofs: np.ndarray, dt: float,
-                 ticks: int = 1) -> None:
-        """``dt`` the step, ``ticks`` the ticks per step (records fall on ticks; the state
-        at a tick inside a step comes from the exact modal solution under the step's hold)."""
+                 ports: tuple[np.ndarray, np.ndarray], rec_dofs: np.ndarray,
+                 tick_s: float) -> None:
+        """``tick_s``: the time unit; steps are whole numbers of ticks, records fall on ticks
+        (the state at a tick inside a step is the exact modal solution under the step's
+        hold)."""
         w2, phi, c, off = modal_basis(M, K_lin, C)
+        if off > MODAL_TOL:
+            raise InputError(f"modal integrator: the damping is not diagonal in the modes of "
+                             f"(M, K_lin) (off-diagonal {off:.2g} of the diagonal > "
+                             f"{MODAL_TOL:g}): use integrator = 'newmark' or 'explicit'")
         self.off_diagonal = off
         self.w2 = w2
         self.cdamp = c
@@ -387,12 +399,20 @@ class ModalSetup:
         self.PhiT = np.ascontiguousarray(self.Phi.T)
         self.rec_dofs = rd
         self.Phr = np.ascontiguousarray(phi[rd, :])
-        self.cf = modal_coefficients(w2, c, dt)
-        self.cd = np.array([modal_coefficients(w2, c, dt, dt * j / ticks)
-                            for j in range(1, max(2, ticks))])
-        self.dt = dt
-        self.m = int(ticks)
+        self.tick = float(tick_s)
         self.M = M
+        self._coefficients: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def coefficients(self, m: int) -> tuple[np.ndarray, np.ndarray]:
+        """(step coefficients, coefficients at ticks 1 … m − 1 inside it) of a step of ``m``
+        ticks (:func:`modal_coefficients`; cached)."""
+        if m not in self._coefficients:
+            h = m * self.tick
+            cf = modal_coefficients(self.w2, self.cdamp, h)
+            cd = np.array([modal_coefficients(self.w2, self.cdamp, h, j * self.tick)
+                           for j in range(1, max(2, m))])
+            self._coefficients[m] = (cf, cd)
+        return self._coefficients[m]
 
 
 def port_dofs(model, extra: list[int]) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
@@ -415,22 +435,24 @@ STATE = ("eta", "deta", "p0", "pprev", "q", "v", "fext", "diss", "bl", "mf", "en
 
 
 def run_loop(
-    setup: ModalSetup, q, v, n_steps, rec_ticks, bargs, margs,  # noqa: ANN001
+    setup: ModalSetup, q, v, n_ticks, rec_ticks, schedule, bargs, margs,  # noqa: ANN001
     drive_dof, load_dof, ref_dof, drive_sign, load_sign, ref_sign, load_torque,  # noqa: ANN001
     t_ref, w_ref, kp, ki, t0_drive, integ0, max_disp, rec_dofs,  # noqa: ANN001
     control: RunControl | None = None,
 ) -> tuple:
     """Modal counterpart of :func:`geardyn.solve.explicit.run_loop` (no gyroscopic terms or
-    applied loads): ``n_steps`` steps of ``setup.m`` ticks, a record every ``rec_ticks``
-    ticks. Returns (records, energy, steps done, status, q, v, ∫e)."""
-    dt, m, K = setup.dt, setup.m, int(rec_ticks)
+    applied loads) over ``n_ticks`` ticks of ``setup.tick`` s, a record every ``rec_ticks``
+    ticks; ``schedule(t0, t1)`` gives the step (in ticks) for the part of the run between t0
+    and t1 [s] (whole steps per chunk; the last step ends on ``n_ticks``). Returns (records,
+    energy, steps done, status, q, v, ∫e, time reached [s])."""
+    u, K = setup.tick, int(rec_ticks)
     phi, M = setup.phi, setup.M
     ctl = control or RunControl()
     n = q.size
     nb = bargs[0].size
     nm = margs[0].size
     nd = rec_dofs.size
-    nrec = n_steps * m // K + 1
+    nrec = n_ticks // K + 1
     check_record_size(nrec, 2 + 2 * nd + 3 * nb + nm, "lower transmission.simulation."
                       "record_rate_hz or the revolutions")
     from geardyn.solve.explicit import record_array
@@ -440,16 +462,16 @@ def run_loop(
           "p0": np.zeros(n), "pprev": np.zeros(n), "q": np.array(q, float),
           "v": np.array(v, float), "fext": np.zeros(n), "diss": np.zeros(5),
           "bl": np.zeros((nb, 3)), "mf": np.zeros(nm), "energy": np.zeros(8),
-          "sc": np.zeros(4)}
-    run_id = {"scheme": "modal-fe", "nsteps": int(n_steps), "dt": float(dt),
-              "rec_every": int(K), "ticks": int(m), "n": int(n), "ncols": int(rec.shape[1]),
+          "sc": np.zeros(6)}  # t, ∫e, T_d, damping power, last step (ticks), steps
+    run_id = {"scheme": "modal-fe", "nsteps": int(n_ticks), "dt": float(u),
+              "rec_every": int(K), "n": int(n), "ncols": int(rec.shape[1]),
               # the model: its modal damping and frequencies (another mass or damping is
               # another run)
               "modal_damping": float(np.sum(setup.cdamp)), "modal_stiffness": float(
                   np.sum(setup.w2))}
 
-    def recorded(steps: int) -> int:  # rows once steps 0 … steps − 1 are done
-        return (steps * m + K - 1) // K
+    def recorded(ticks: int) -> int:  # rows once the ticks before ``ticks`` are done
+        return (ticks + K - 1) // K
 
     if ctl.resume is not None:
         from geardyn.solve.control import check_same_run
@@ -469,30 +491,50 @@ def run_loop(
         _port_forces(st["q"], st["v"], f, st["diss"], bargs, margs, st["bl"], st["mf"], fext,
                      setup.ports, *setup.J, setup.Phi, st["p0"])
         st["pprev"][:] = st["p0"]
-        st["sc"][:] = (0.0, integ0, td, _damping_power(setup.cdamp, st["deta"]))
+        st["sc"][:] = (0.0, integ0, td, _damping_power(setup.cdamp, st["deta"]), 0.0, 0.0)
         done = 0
 
-    def state(steps: int) -> dict:
-        return {**run_id, "step": steps, **st, "rec": rec[: recorded(steps)]}
+    def state(ticks: int) -> dict:
+        return {**run_id, "step": ticks, **st, "rec": rec[: recorded(ticks)]}
+
+    seg = SEGMENT_RECORDS * K
 
     def advance(start: int, stop: int) -> tuple[int, int]:
-        return run_chunk(
-            st["eta"], st["deta"], st["p0"], st["pprev"], st["q"], st["v"], st["fext"],
-            st["diss"], st["bl"], st["mf"], st["energy"], st["sc"], start, stop, dt, m, K,
-            rec, setup.cf, setup.cd, setup.cdamp, setup.PhiT, setup.nv, setup.Phi, setup.Phr,
-            setup.rec_dofs, setup.ports, *setup.J, bargs, margs, drive_dof, load_dof, ref_dof,
-            drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp)
+        # the step is a function of the tick alone (the schedule over its segment of
+        # SEGMENT_RECORDS records), so the steps do not depend on where chunks end
+        tick = start
+        while tick < stop and tick < n_ticks:
+            s0 = (tick // seg) * seg
+            m = max(1, int(schedule(s0 * u, min(s0 + seg, n_ticks) * u)))
+            m = min(m, n_ticks - tick)
+            steps = max(1, -(-(min(s0 + seg, stop, n_ticks) - tick) // m))
+            steps = min(steps, (n_ticks - tick) // m)
+            if m != int(st["sc"][4]) and st["sc"][4] > 0:
+                # the hold's previous value at −h of the new step: on the previous step's line
+                p0, pprev = st["p0"], st["pprev"]
+                pprev[:] = p0 + (pprev - p0) * (m / st["sc"][4])
+            st["sc"][4] = m
+            cf, cd = setup.coefficients(m)
+            tick, code = run_chunk(
+                st["eta"], st["deta"], st["p0"], st["pprev"], st["q"], st["v"], st["fext"],
+                st["diss"], st["bl"], st["mf"], st["energy"], st["sc"], tick, steps, u, m, K,
+                rec, cf, cd, setup.cdamp, setup.PhiT, setup.nv, setup.Phi, setup.Phr,
+                setup.rec_dofs, setup.ports, *setup.J, bargs, margs, drive_dof, load_dof,
+                ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp)
+            if code != 0:
+                return tick, code
+        return tick, 0
 
-    done, status = drive_chunks(ctl, done, n_steps, advance, state)
-    if status == 0 and (n_steps * m) % K == 0:
+    done, status = drive_chunks(ctl, done, n_ticks, advance, state)
+    if status == 0 and n_ticks % K == 0:
         sc = st["sc"]
-        _record(rec, n_steps * m // K, sc[0], sc[2], st["q"], st["v"], setup.rec_dofs,
+        _record(rec, n_ticks // K, sc[0], sc[2], st["q"], st["v"], setup.rec_dofs,
                 st["bl"], st["mf"], nd, nb, nm)
     if status == 0:
-        rows = n_steps * m // K + 1
+        rows = n_ticks // K + 1
     elif status == 1:  # the failed step's records were written
-        rows = min(nrec, recorded(done + 1))
+        rows = min(nrec, recorded(done + int(st["sc"][4])))
     else:
         rows = recorded(done)
-    return (rec[:rows], st["energy"], done, status, phi @ st["eta"], phi @ st["deta"],
-            float(st["sc"][1]))
+    return (rec[:rows], st["energy"], int(st["sc"][5]), status, phi @ st["eta"],
+            phi @ st["deta"], float(st["sc"][1]), float(st["sc"][0]))

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import time as _time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -247,15 +248,22 @@ def simulate(
                               f"damping and no speed-dependent terms: {reason}")
         if not reason:
             scheme = "modal"
-    ticks = 1
     if scheme == "newmark":
         dt = t.simulation.time_step_s or dt_newmark
     elif scheme == "exponential":
         dt = t.simulation.time_step_s or 1.0 / t.simulation.record_rate_hz
     elif scheme == "modal":
-        dt, ticks, rec_ticks = modal_step(
+        elastic = np.asarray(prep.frequencies_hz, float)
+        elastic = elastic[elastic >= 0.5]
+
+        def speed_ratio(time_s: float) -> float:  # reference speed law / top speed
+            w = w0 + (w1 - w0) * min(1.0, max(0.0, time_s / duration))
+            return abs(w) / w_top if w_top > 0 else 0.0
+
+        tick, rec_ticks, schedule, dt = modal_step(
             t.simulation, mesh_period, w_top * max(ratios.values()) / (2 * math.pi),
-            float(model.meshes.npc.max(initial=0.0)))
+            float(model.meshes.npc.max(initial=0.0)), speed_ratio,
+            float(elastic[0]) if elastic.size else 0.0)
     else:
         dt = t.simulation.time_step_s or 0.8 * dt_limit
     if check_step:
@@ -265,8 +273,9 @@ def simulate(
                         stable_limit_s=dt_limit if scheme == "explicit" else None)
     n_steps = int(math.ceil(duration / dt))
     rec_every = max(1, int(round(1.0 / (t.simulation.record_rate_hz * dt))))
-    if scheme == "modal" and ticks == 1:
-        rec_ticks = rec_every
+    if scheme == "modal":  # whole records: the run ends on a record tick at or after duration
+        n_ticks = int(math.ceil(duration * t.simulation.record_rate_hz - 1e-9)) * rec_ticks \
+            if not t.simulation.time_step_s else n_steps
     # rigid-body initial speeds on θz
     v = np.zeros(model.ndof)
     for s, ids in model.shaft_nodes.items():
@@ -324,9 +333,9 @@ def simulate(
 
         ports = modal_fe.port_dofs(model, [common[2], common[3], common[4]])
         setup = modal_fe.ModalSetup(model.M, model.K, prep.K_lin, dense_damping(damping),
-                                    ports, rec_dofs, dt, ticks)
-        rec, energy, n_done, status, q, vend, _ = modal_fe.run_loop(
-            setup, prep.q0.copy(), v, n_steps, rec_ticks, *common, control=control)
+                                    ports, rec_dofs, tick)
+        rec, energy, n_done, status, q, vend, _, t_end = modal_fe.run_loop(
+            setup, prep.q0.copy(), v, n_ticks, rec_ticks, schedule, *common, control=control)
     elif scheme == "newmark":
         from geardyn.solve import implicit_fe
 
@@ -340,6 +349,8 @@ def simulate(
             prep.q0.copy(), v, dt, n_steps, rec_every, Minv, model.K, damping, *common,
             control=control, gargs=gargs, xargs=xargs)
     t_run = _time.perf_counter() - t1
+    t_reached = t_end if scheme == "modal" else n_done * dt
+    of_total = "" if scheme == "modal" else f" of {n_steps}"
     ds = records_dataset(rec, model, t, shafts, len(extra), support_ix)
     names = ["input_J", "output_J", "bearing_viscous_J", "rolling_resistance_J",
              "gear_friction_J", "squeeze_film_J", "modal_damping_J", "external_loads_J"]
@@ -363,17 +374,17 @@ def simulate(
         ds.attrs["status"] = "interrupted"
         ds.attrs["diagnosis"] = (
             f"{(control.stop_reason if control else '') or 'interrupted'} at t = "
-            f"{n_done * dt:.6g} s (step {n_done} of {n_steps}): the computed part is kept")
+            f"{t_reached:.6g} s (step {n_done}{of_total}): the computed part is kept")
     elif status == 0:
         ds.attrs["energy_stored_start_J"] = stored_energy(model, prep.q0, v)
         ds.attrs["energy_stored_end_J"] = stored_energy(model, q, vend)
         _output_checks(ds, model)
     if status == 1:
         ds.attrs["status"] = "diverged"
-        ds.attrs["diagnosis"] = (f"diverged at t = {n_done * dt:.6f} s (step {n_done}): "
+        ds.attrs["diagnosis"] = (f"diverged at t = {t_reached:.6f} s (step {n_done}): "
                                  "displacements exceeded 50 mm or accelerations overflowed")
         raise SimulationDivergedError(
-            f"simulation diverged at t = {n_done * dt:.6f} s (step {n_done}): displacements "
+            f"simulation diverged at t = {t_reached:.6f} s (step {n_done}): displacements "
             "exceeded 50 mm or accelerations overflowed; reduce simulation.time_step_s or check "
             "clearances/loads. The partial result is attached (.result).",
             ds,
@@ -425,27 +436,47 @@ MODAL_STEPS_PER_PERIOD = 4
 
 
 def modal_step(sim, mesh_period: float | None, shaft_hz: float,  # noqa: ANN001
-               table_points: float) -> tuple[float, int, int]:
-    """(step [s], ticks per step, ticks per record) of the modal integrator: the step
-    resolves ``resolved_frequency_hz`` (default as :func:`choose_integrator`) with
-    :data:`MODAL_STEPS_PER_PERIOD` steps per period; records keep ``record_rate_hz`` exactly
-    (a tick divides the record interval; the step is a whole number of ticks, at least 3/4 of
-    the criterion's step). ``time_step_s`` given: that step, a record every
-    round(1/(rate · step)) steps (as the other integrators)."""
+               table_points: float, speed_ratio: Callable[[float], float],
+               lowest_hz: float) -> tuple[float, int, Callable[[float, float], int], float]:
+    """(tick [s], ticks per record, schedule, step at the top speed [s]) of the modal
+    integrator. The step resolves ``resolved_frequency_hz`` with
+    :data:`MODAL_STEPS_PER_PERIOD` steps per period; by default (as :func:`choose_integrator`)
+    that frequency is a mesh harmonic or shaft order, proportional to the speed, so the step
+    follows the speed: ``schedule(t0, t1)`` gives the step in ticks for the part of the run
+    between t0 and t1 from the highest speed there (``speed_ratio(t)`` = speed / top speed),
+    never longer than a quarter period of the lowest elastic mode ``lowest_hz`` (the port
+    forces carry its oscillation). Records keep ``record_rate_hz`` exactly: a tick divides the
+    record interval, the step at the top speed is a whole number (≥ 3) of ticks, at least 3/4
+    of the criterion's step. ``time_step_s`` given: that step, a record every
+    round(1/(rate · step)) steps (as the other integrators); ``resolved_frequency_hz`` given:
+    a constant step."""
     t_rec = 1.0 / sim.record_rate_hz
     if sim.time_step_s:
-        return sim.time_step_s, 1, max(1, int(round(t_rec / sim.time_step_s)))
+        return (sim.time_step_s, max(1, int(round(t_rec / sim.time_step_s))),
+                lambda _a, _b: 1, sim.time_step_s)
     f = sim.resolved_frequency_hz
+    follow = f is None
     if f is None:
         harmonics = max(1.0, MESH_HARMONICS_PER_POINT * table_points)
         f = max(harmonics / mesh_period if mesh_period else 0.0, SHAFT_ORDERS * shaft_hz)
     if not f > 0:
-        f = 0.5 / t_rec
+        f, follow = 0.5 / t_rec, False
     h = 1.0 / (MODAL_STEPS_PER_PERIOD * f)
     per_rec = max(1, math.ceil(3.0 * t_rec / h - 1e-9))
     tick = t_rec / per_rec
-    ticks = max(1, int(math.floor(h / tick + 1e-9)))
-    return ticks * tick, ticks, per_rec
+    m_top = max(1, int(math.floor(h / tick + 1e-9)))
+    h_max = max(h, 1.0 / (MODAL_STEPS_PER_PERIOD * lowest_hz)) if lowest_hz > 0 else h
+    m_max = max(m_top, int(math.floor(h_max / tick + 1e-9)))
+    if not follow:
+        return tick, per_rec, lambda _a, _b: m_top, m_top * tick
+
+    def schedule(t0: float, t1: float) -> int:
+        r = max(speed_ratio(t0), speed_ratio(t1))
+        if not r > 0:
+            return m_max
+        return min(m_max, max(m_top, int(math.floor(h / r / tick + 1e-9))))
+
+    return tick, per_rec, schedule, m_top * tick
 
 
 def modal_reason(model: TransmissionModel, t, damping, gyro0,  # noqa: ANN001
