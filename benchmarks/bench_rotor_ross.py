@@ -25,19 +25,19 @@ the FE transmission with the modal integrator (its default) and the explicit loo
 run: cost per simulated second at 400 rpm against the elements per shaft (5, 10, 20) and the
 NSC run.
 
-Measured (issue 24, session 4; shared 2-core machine, load average 8-9; ROSS 2.3.0), CPU s per
-simulated second (1×-amplitude error):
+Measured (issue 24, session 4, final code; shared 2-core machine, load average 6-9; ROSS
+2.3.0), CPU s per simulated second (1×-amplitude error):
 
     level el.  g. exponential   g. newmark      g. explicit    ROSS lsim       ROSS newmark
-    1e-4  12   0.0129 (1.2e-7)  0.151 (1.0e-4)  1.57 (6.3e-7)  0.119 (8.2e-5)  4.38 (1.0e-4)
-    1e-4  24   0.0289 (1.1e-7)  0.256 (1.0e-4)  5.60 (3.3e-7)  0.419 (8.2e-5)  6.89 (1.0e-4)
-    1e-6  12   0.0917 (1.2e-7)  1.59 (9.2e-7)   1.57           1.57 (9.4e-7)   42.7 (0.2 s)
-    1e-6  24   0.175 (1.2e-7)   2.74 (9.2e-7)   5.60           4.01 (9.4e-7)   73.2 (0.2 s)
+    1e-4  12   0.0132 (1.2e-7)  0.152 (1.0e-4)  1.48 (6.3e-7)  0.125 (8.2e-5)  4.03 (1.0e-4)
+    1e-4  24   0.0289 (1.1e-7)  0.261 (1.0e-4)  6.26 (3.3e-7)  0.388 (8.2e-5)  6.83 (1.0e-4)
+    1e-6  12   0.0889 (1.2e-7)  1.50 (9.2e-7)   1.48           1.21 (9.4e-7)   37.6 (0.2 s)
+    1e-6  24   0.170 (1.2e-7)   2.53 (9.2e-7)   6.26           3.91 (9.4e-7)   62.6 (0.2 s)
 
-    speed-up of geardyn's fastest vs ROSS lsim: 9.3× / 14.5× (1e-4), 17.1× / 23.0× (1e-6);
-    vs ROSS Newmark ≥ 238×. Cost ∝ elements^p: exponential 1.17 / 0.93, newmark 0.76 / 0.79,
-    explicit 1.84. Seed 002 at 400 rpm, 15 → 60 shaft elements: modal p = 0.79, explicit
-    p = 2.20. Seed 002 NSC 300 rev: modal 13.9 CPU s, explicit 22.0 CPU s (target ≤ 8: not met).
+    speed-up of geardyn's fastest vs ROSS lsim: 9.5× / 13.4× (1e-4), 13.6× / 23.0× (1e-6);
+    vs ROSS Newmark ≥ 236×. Cost ∝ elements^p: exponential 1.13 / 0.93, newmark 0.78 / 0.76,
+    explicit 2.08. Seed 002 at 400 rpm, 15 → 60 shaft elements: modal p = 0.79, explicit
+    p = 2.21. Seed 002 NSC 300 rev: modal 13.2 CPU s, explicit 22.9 CPU s (target ≤ 8: not met).
 """
 
 from __future__ import annotations
