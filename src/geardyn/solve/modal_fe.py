@@ -46,12 +46,12 @@ from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
 from geardyn.solve.control import RunControl, check_record_size, drive_chunks
 from geardyn.solve.explicit import (
-    E_IN,
     E_MODAL,
-    E_OUT,
     REC_BLOCK,
     _interp,
+    book_energy,
     ref_sign_speed,
+    step_powers,
 )
 
 #: Records per segment of the run over which the step is constant (its speed from the
@@ -262,7 +262,9 @@ def run_chunk(
     pp0 = np.zeros(n)
     bl0 = np.zeros(bl.shape)
     mf0 = np.zeros(nm)
-    d0 = np.zeros(diss.size)
+    pw0 = np.zeros(energy.size)
+    pw1 = np.zeros(energy.size)
+    empty = np.zeros(0)
     buf = np.empty((REC_BLOCK, rec.shape[1]))
     r0 = 0
     nbuf = 0
@@ -291,9 +293,8 @@ def run_chunk(
             bl0[:, :] = bl
             mf0[:] = mf
         td0 = td
-        p_in0 = fext[drive_dof] * v[drive_dof]
-        p_out0 = -fext[load_dof] * v[load_dof]
-        d0[:] = diss
+        step_powers(fext, v, diss, empty, drive_dof, load_dof, pw0)
+        pw0[E_MODAL] = pd0  # the modal damping's power (its dissipation is not a kernel's)
         # predictor: exact modal step, the hold's end value extrapolated linearly
         for j in range(n):
             pm = pprev[j]
@@ -341,13 +342,9 @@ def run_chunk(
             d = ports[i]
             if not (abs(q[d]) < 1e12) or (d % 6 < 3 and abs(q[d]) > max_disp):
                 ok = False
-        p_in1 = fext[drive_dof] * v[drive_dof]
-        p_out1 = -fext[load_dof] * v[load_dof]
-        energy[E_IN] += 0.5 * dt * (p_in0 + p_in1)
-        energy[E_OUT] += 0.5 * dt * (p_out0 + p_out1)
-        for c in range(4):
-            energy[2 + c] += 0.5 * dt * (d0[c] + diss[c])
-        energy[E_MODAL] += 0.5 * dt * (pd0 + pd1)
+        step_powers(fext, v, diss, empty, drive_dof, load_dof, pw1)
+        pw1[E_MODAL] = pd1
+        book_energy(energy, dt, pw0, pw1)
         pd0 = pd1
         sc[0] = t
         sc[1] = integ
