@@ -20,7 +20,24 @@ variable ``ROSS_PYTHON`` (default ``../ross-venv/bin/python`` beside the reposit
 through ``benchmarks/ross_rotor.py``; without it the ROSS rows say so and the ratios are not
 computed. Targets (issue 24): ≥ 3× faster than ROSS's fastest time response and ≥ 10× faster
 than ROSS's Newmark at both levels on 12 and 24 elements, cost ∝ elements^≤1.3, seed 002
-300-revolution run (NSC 200-900 rpm) ≤ 8 CPU s with the default mass.
+300-revolution run (NSC 200-900 rpm) ≤ 8 CPU s with the default mass. The seed 002 rows time
+the FE transmission with the modal integrator (its default) and the explicit loop in the same
+run: cost per simulated second at 400 rpm against the elements per shaft (5, 10, 20) and the
+NSC run.
+
+Measured (issue 24, session 4, final code; shared 2-core machine, load average 6-9; ROSS
+2.3.0), CPU s per simulated second (1×-amplitude error):
+
+    level el.  g. exponential   g. newmark      g. explicit    ROSS lsim       ROSS newmark
+    1e-4  12   0.0132 (1.2e-7)  0.152 (1.0e-4)  1.48 (6.3e-7)  0.125 (8.2e-5)  4.03 (1.0e-4)
+    1e-4  24   0.0289 (1.1e-7)  0.261 (1.0e-4)  6.26 (3.3e-7)  0.388 (8.2e-5)  6.83 (1.0e-4)
+    1e-6  12   0.0889 (1.2e-7)  1.50 (9.2e-7)   1.48           1.21 (9.4e-7)   37.6 (0.2 s)
+    1e-6  24   0.170 (1.2e-7)   2.53 (9.2e-7)   6.26           3.91 (9.4e-7)   62.6 (0.2 s)
+
+    speed-up of geardyn's fastest vs ROSS lsim: 9.5× / 13.4× (1e-4), 13.6× / 23.0× (1e-6);
+    vs ROSS Newmark ≥ 236×. Cost ∝ elements^p: exponential 1.13 / 0.93, newmark 0.78 / 0.76,
+    explicit 2.08. Seed 002 at 400 rpm, 15 → 60 shaft elements: modal p = 0.79, explicit
+    p = 2.21. Seed 002 NSC 300 rev: modal 13.2 CPU s, explicit 22.9 CPU s (target ≤ 8: not met).
 """
 
 from __future__ import annotations
@@ -97,15 +114,46 @@ def _geardyn(n: int, integrator: str, h: float | None) -> dict:
             "step_s": ds.attrs["time_step_s"]}
 
 
-def _seed002_300rev() -> float:
+def _seed002_300rev(integrator: str = "auto") -> tuple[float, str, float]:
+    """(CPU s, integrator, step) of the NSC 200-900 rpm / 300 revolution run with the default
+    (consistent) mass, after a short run that loads the compiled kernels."""
     from geardyn.config.loader import load_config, parse_config
     from geardyn.models.transmission import simulate
 
     d = load_config(ROOT / "examples" / "seed002_transmission.toml").model_dump(exclude_none=True)
     d["transmission"]["speed_law"].update(start_rpm=200.0, end_rpm=900.0, revolutions=300.0)
+    d["transmission"]["simulation"]["integrator"] = integrator
+    cfg = parse_config(d)
+    simulate(cfg, revolutions=0.05)
     c0 = time.process_time()
-    ds = simulate(parse_config(d))
-    return time.process_time() - c0, ds.attrs["integrator"]
+    ds = simulate(cfg)
+    return time.process_time() - c0, ds.attrs["integrator"], ds.attrs["time_step_s"]
+
+
+def _seed002_scaling(integrator: str) -> tuple[list[dict], float]:
+    """CPU s per simulated second of the seed 002 transmission at 400 rpm with 5, 10 and 20
+    elements per shaft (nodes scaled, :func:`benchmarks.bench_transmission._scaled_cfg`) and
+    the fitted exponent of the cost against the element count."""
+    from benchmarks.bench_transmission import _scaled_cfg
+    from geardyn.config.loader import parse_config
+    from geardyn.models.transmission import build_model, prepare, simulate
+
+    rows, els, cost = [], [], []
+    for el in (5, 10, 20):
+        d = _scaled_cfg(el).model_dump(exclude_none=True)
+        d["transmission"]["simulation"]["integrator"] = integrator
+        cfg = parse_config(d)
+        prep = prepare(build_model(cfg), "output")
+        simulate(cfg, revolutions=0.02, prepared=prep)
+        c0 = time.process_time()
+        ds = simulate(cfg, revolutions=0.5, prepared=prep)
+        c = (time.process_time() - c0) / float(ds.time[-1])
+        els.append(3 * el)
+        cost.append(c)
+        rows.append({"code": f"geardyn {ds.attrs['integrator']}, seed 002 at 400 rpm, "
+                     f"{3 * el} shaft elements", "step_s": ds.attrs["time_step_s"],
+                     "cpu_s_per_sim_s": c})
+    return rows, float(np.polyfit(np.log(els), np.log(cost), 1)[0])
 
 
 def run() -> list[dict]:
@@ -146,8 +194,16 @@ def run() -> list[dict]:
             e = math.log(cost[(level, 24, k)] / cost[(level, 12, k)]) / math.log(2.0)
             rows.append({"level": level, "code": f"geardyn {k}: cost ∝ elements^p",
                          "note": f"p = {e:.2f} (12 → 24 elements; target ≤ 1.3)"})
-    cpu, scheme = _seed002_300rev()
+    for k in ("modal", "explicit"):
+        srows, p = _seed002_scaling(k)
+        rows += srows
+        rows.append({"code": f"geardyn {k}, seed 002 transmission: cost ∝ elements^p",
+                     "note": f"p = {p:.2f} (15 → 60 elements; target ≤ 1.3)"})
+    cpu, scheme, h = _seed002_300rev()
+    cpu_x, _, hx = _seed002_300rev("explicit")
     rows.append({"code": "seed 002 NSC 200-900 rpm / 300 rev, default (consistent) mass",
-                 "cpu_s_per_sim_s": "", "note": f"{cpu:.1f} CPU s with '{scheme}' (target ≤ 8; "
-                 f"load average {os.getloadavg()[0]:.1f})"})
+                 "step_s": h, "cpu_s_per_sim_s": "",
+                 "note": f"{cpu:.1f} CPU s with '{scheme}' (target ≤ 8); explicit loop "
+                 f"(h = {hx:.3g} s) {cpu_x:.1f} CPU s in the same run: {cpu_x / cpu:.2f}× "
+                 f"(load average {os.getloadavg()[0]:.1f})"})
     return rows

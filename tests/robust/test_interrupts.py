@@ -108,10 +108,11 @@ def test_transmission_sigkill_sigint_resume(tmp_path: Path) -> None:
     text = text.replace("record_rate_hz = 50000.0", "record_rate_hz = 5000.0")
     cfg_path = tmp_path / "fe.toml"
     cfg_path.write_text(text)
-    # 20 revolutions (~2 s of loop): the resumed run must still be running when SIGINT comes
-    reference = run_simulation(load_config(cfg_path), revolutions=20.0)
+    # 100 revolutions (~2-3 s of the default modal loop): the resumed run must still be
+    # running when SIGINT comes
+    reference = run_simulation(load_config(cfg_path), revolutions=100.0)
     out = tmp_path / "fe.nc"
-    _chain(tmp_path, ["transmission", str(cfg_path), "--revolutions", "20", "--modes", "3",
+    _chain(tmp_path, ["transmission", str(cfg_path), "--revolutions", "100", "--modes", "3",
                       "--netcdf", str(out)], out, reference)
 
 

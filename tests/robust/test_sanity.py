@@ -178,7 +178,7 @@ def test_transmission_step_above_stability_limit_refused(examples_dir):
     w2 = eigh(prep.K_lin, prep.model.M, eigvals_only=True)
     limit = 2 / math.sqrt(w2.max())
     d = cfg.model_dump(exclude_none=True)
-    d["transmission"]["simulation"]["time_step_s"] = 5e-5
+    d["transmission"]["simulation"].update(integrator="explicit", time_step_s=5e-5)
     with pytest.raises(InputError, match=r"transmission\.simulation\.time_step_s: the time step "
                        rf"5e-05 s is too large: above the stability limit 2/ω_max = "
                        rf"{limit:.4g} s"):

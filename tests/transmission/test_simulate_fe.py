@@ -92,7 +92,8 @@ def test_simulate_fe_sigint_and_resume_through_the_alias(tmp_path) -> None:
     text = text.replace("record_rate_hz = 50000.0", "record_rate_hz = 5000.0")
     cfg_path = tmp_path / "fe.toml"
     cfg_path.write_text(text)
-    reference = run_simulation(load_config(cfg_path), revolutions=20.0)
+    # 100 revolutions (~2-3 s of the default modal loop): still running when SIGINT comes
+    reference = run_simulation(load_config(cfg_path), revolutions=100.0)
     out = tmp_path / "fe.nc"
     ckpt = out.with_name(out.name + ".ckpt.npz")
     sizes = []
@@ -100,7 +101,7 @@ def test_simulate_fe_sigint_and_resume_through_the_alias(tmp_path) -> None:
                     ["transmission", str(cfg_path), "--netcdf", str(out), "--modes", "1",
                      "--resume"]):
         mtime = ckpt.stat().st_mtime_ns if ckpt.exists() else 0
-        p = _start(command + ["--revolutions", "20", "--checkpoint-every", "0.2"], tmp_path)
+        p = _start(command + ["--revolutions", "100", "--checkpoint-every", "0.2"], tmp_path)
         _wait_for_checkpoint(p, ckpt, after_ns=mtime)
         n = sigint_and_compare(p, out, reference)
         sizes.append(n)

@@ -281,17 +281,21 @@ class SimulationConfig(_Strict):
         False, description="gyroscopic terms Ω_s(t) G_s q̇ of shafts and wheels at each "
         "shaft's current speed in the time integration"
     )
-    integrator: Literal["explicit", "newmark", "exponential", "auto"] = Field(
+    integrator: Literal["explicit", "newmark", "exponential", "modal", "auto"] = Field(
         "auto", description="explicit: velocity Verlet at 0.8 × the stability limit; newmark: "
-        "implicit average acceleration with Newton iterations, step set by "
+        "implicit average acceleration with Newton iterations, 20 steps per period of "
         "resolved_frequency_hz; exponential: exact modal integration of a linear rotor at "
-        "constant speed (no meshes, no Hertzian bearings; step = 1/record_rate_hz); auto: "
-        "exponential where it applies, else newmark when its step is ≥ 4 × the explicit one, "
-        "else explicit")
+        "constant speed (no meshes, no Hertzian bearings; step = 1/record_rate_hz); modal: "
+        "exact modal integration of the linear structure with the bearing, mesh and drive "
+        "forces on a quadratic hold (modal damping only; no gyroscopic terms, unbalances, "
+        "external loads, support damping), 4 steps per period of resolved_frequency_hz; "
+        "auto: exponential where it applies, else modal, else newmark when its step is ≥ 4 × "
+        "the explicit one, else explicit")
     resolved_frequency_hz: float | None = Field(
-        None, gt=0, description="newmark: highest frequency to resolve (step = 1/(20 f)); "
-        "default: 2 × the highest of the mesh frequency, the 1×/2× speed orders and the modes "
-        "below 5 kHz")
+        None, gt=0, description="newmark and modal: highest frequency to resolve (newmark: "
+        "step = 1/(20 f); modal: 1/(4 f)); default: the mesh harmonic of order a quarter of "
+        "the stiffness table's points per cycle at the top mesh frequency (modal: one step "
+        "per table point), or 10 orders of the top shaft speed without meshes")
     record: list[str] = Field(
         default_factory=list, description="extra outputs by name: a DOF "
         "('{shaft}.n{i}.{x,y,z,rx,ry,rz}'), a disc name (its node's x and y) or a support "

@@ -89,6 +89,31 @@ class RunControl:
             self._last_checkpoint = time.monotonic()
 
 
+def drive_chunks(ctl: RunControl, done: int, total: int,
+                 advance: Callable[[int, int], tuple[int, int]],
+                 state: Callable[[int], dict]) -> tuple[int, int]:
+    """The chunk loop shared by the FE integrators (explicit, Newmark, modal): advance
+    ``done`` → ``total`` steps (or ticks) in chunks sized by ``ctl``, ``advance(start, stop)``
+    returning (step reached — ``stop`` for a fixed step, whole steps of a variable one —, 0 ok
+    / 1 diverged); after each chunk ``ctl`` books it (progress,
+    estimate, a checkpoint of ``state(steps done)`` when due) and a stop request ends the run.
+    Returns (steps done — for a divergence the step that failed —, status 0 ok, 1 diverged,
+    2 stopped)."""
+    while done < total:
+        m = ctl.next_chunk(done, total)
+        w = time.perf_counter()
+        reached, code = advance(done, done + m)
+        w = time.perf_counter() - w
+        if code != 0:
+            return reached, 1
+        # a chunk may end a little before or after done + m (whole steps of a variable size)
+        ctl.chunk_done(reached - done, w, reached, total, lambda d=reached: state(d))
+        done = reached
+        if ctl.stop_requested and done < total:
+            return done, 2
+    return done, 0
+
+
 def check_record_size(rows: int, columns: int, advice: str) -> None:
     """Refuse, before the run, records of ``rows`` × ``columns`` float64 larger than a quarter
     of the physical memory (building the result copies them a few times): InputError with

@@ -38,7 +38,6 @@ forces/torques F = F₀ + A cos(2π f t + n θz,ref + φ) on any DOF (time law f
 from __future__ import annotations
 
 import math
-import time
 from typing import NamedTuple
 
 import numpy as np
@@ -46,7 +45,7 @@ from numba import njit
 
 from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
-from geardyn.solve.control import RunControl, check_record_size
+from geardyn.solve.control import RunControl, check_record_size, drive_chunks
 
 # channels of the energy accumulator
 E_IN, E_OUT, E_VISC, E_ROLL, E_FRIC, E_SQZ, E_MODAL, E_EXT = range(8)
@@ -366,6 +365,26 @@ def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, 
 
 
 @njit(cache=True)
+def step_powers(fext, v, diss, fx, drive_dof, load_dof, pw):  # pragma: no cover - compiled
+    """The powers of the energy channels at one instant into ``pw`` (channels ``E_IN`` …
+    ``E_EXT``): input and output at the drive and load, the dissipation powers ``diss``, the
+    applied loads' power F·v (0 without loads). One piece of code for every FE loop."""
+    pw[E_IN] = fext[drive_dof] * v[drive_dof]
+    pw[E_OUT] = -fext[load_dof] * v[load_dof]
+    for c in range(5):
+        pw[2 + c] = diss[c]
+    pw[E_EXT] = _dot(fx, v)
+
+
+@njit(cache=True)
+def book_energy(energy, dt, pw0, pw1):  # pragma: no cover - compiled
+    """energy += trapezoid of each channel's power over a step dt (start ``pw0``, end
+    ``pw1``, :func:`step_powers`)."""
+    for k in range(energy.size):
+        energy[k] += 0.5 * dt * (pw0[k] + pw1[k])
+
+
+@njit(cache=True)
 def start_loop(
     q, v, Minv, K, C, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign, load_sign,
     ref_sign, load_torque, t_ref, w_ref, kp, ki, t0_drive, integ0,
@@ -417,7 +436,8 @@ def run_chunk(
     f = np.zeros(n)
     vh = np.zeros(n)
     vp = np.zeros(n)
-    d0 = np.zeros(diss.size)
+    pw0 = np.zeros(energy.size)
+    pw1 = np.zeros(energy.size)
     # records go through a small buffer copied in blocks: rows written one by one straight
     # into the large record array cost ≈ 1 µs per step in cache misses
     buf = np.empty((REC_BLOCK, rec.shape[1]))
@@ -435,11 +455,7 @@ def run_chunk(
             if nbuf == REC_BLOCK:
                 rec[r0 : r0 + nbuf, :] = buf
                 nbuf = 0
-        # power before the step (trapezoid)
-        p_in0 = fext[drive_dof] * v[drive_dof]
-        p_out0 = -fext[load_dof] * v[load_dof]
-        d0[:] = diss
-        px0 = _dot(fx, v)
+        step_powers(fext, v, diss, fx, drive_dof, load_dof, pw0)  # before the step
         for j in range(n):
             vh[j] = v[j] + 0.5 * dt * a[j]
             q[j] += dt * vh[j]
@@ -462,14 +478,8 @@ def run_chunk(
             if abs(a[j]) > 1e30 or (j6 < 5 and abs(q[j]) > max_disp):
                 ok = False
             j6 = 0 if j6 == 5 else j6 + 1
-        p_in1 = fext[drive_dof] * v[drive_dof]
-        p_out1 = -fext[load_dof] * v[load_dof]
-        energy[E_IN] += 0.5 * dt * (p_in0 + p_in1)
-        energy[E_OUT] += 0.5 * dt * (p_out0 + p_out1)
-        for c in range(5):
-            energy[2 + c] += 0.5 * dt * (d0[c] + diss[c])
-        if fx.size > 0:
-            energy[E_EXT] += 0.5 * dt * (px0 + _dot(fx, v))
+        step_powers(fext, v, diss, fx, drive_dof, load_dof, pw1)
+        book_energy(energy, dt, pw0, pw1)
         sc[0] = t
         sc[1] = integ
         sc[2] = td
@@ -604,27 +614,17 @@ def run_loop(
                    st["sc"], gargs, xargs, st["fx"])
         done = 0
 
-    def state() -> dict:
-        return {**run_id, "step": done, **st, "rec": rec[: _recorded(done, rec_every)]}
+    def state(steps: int) -> dict:
+        return {**run_id, "step": steps, **st, "rec": rec[: _recorded(steps, rec_every)]}
 
-    status = 0
-    while done < n_steps:
-        m = ctl.next_chunk(done, n_steps)
-        w = time.perf_counter()
-        reached, code = run_chunk(
+    def advance(start: int, stop: int) -> tuple[int, int]:
+        return run_chunk(
             st["q"], st["v"], st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
-            st["energy"], st["sc"], done, done + m, dt, rec_every, rec, Minv, K, C, bargs,
+            st["energy"], st["sc"], start, stop, dt, rec_every, rec, Minv, K, C, bargs,
             margs, drive_dof, load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki,
             t0_drive, max_disp, rec_dofs, gargs, xargs, st["fx"])
-        w = time.perf_counter() - w
-        if code != 0:
-            done, status = reached, 1
-            break
-        done += m
-        ctl.chunk_done(m, w, done, n_steps, state)
-        if ctl.stop_requested and done < n_steps:
-            status = 2
-            break
+
+    done, status = drive_chunks(ctl, done, n_steps, advance, state)
     if status == 0 and n_steps % rec_every == 0:
         sc = st["sc"]
         record(rec, n_steps // rec_every, sc[0], sc[2], st["q"], st["v"], st["bl"], st["mf"],

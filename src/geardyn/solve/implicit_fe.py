@@ -28,23 +28,20 @@ unconverged after :data:`MAX_ITER` iterations is counted (``newton_unconverged_s
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 from numba import njit
 
 from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
-from geardyn.solve.control import RunControl, check_record_size
+from geardyn.solve.control import RunControl, check_record_size, drive_chunks
 from geardyn.solve.explicit import (
-    E_EXT,
-    E_IN,
-    E_OUT,
     REC_BLOCK,
     _dot,
     _interp,
     _linear_forces,
     applied_loads,
+    book_energy,
     csr,
     gyroscopic_forces,
     linear_args,
@@ -54,6 +51,7 @@ from geardyn.solve.explicit import (
     record,
     record_array,
     ref_sign_speed,
+    step_powers,
 )
 
 BETA, GAMMA = 0.25, 0.5
@@ -171,7 +169,8 @@ def run_chunk(
     q1 = np.zeros(n)
     v1 = np.zeros(n)
     a1 = np.zeros(n)
-    d0 = np.zeros(diss.size)
+    pw0 = np.zeros(energy.size)
+    pw1 = np.zeros(energy.size)
     buf = np.empty((REC_BLOCK, rec.shape[1]))
     r0 = 0
     nbuf = 0
@@ -189,10 +188,7 @@ def run_chunk(
             if nbuf == REC_BLOCK:
                 rec[r0 : r0 + nbuf, :] = buf
                 nbuf = 0
-        p_in0 = fext[drive_dof] * v[drive_dof]
-        p_out0 = -fext[load_dof] * v[load_dof]
-        d0[:] = diss
-        px0 = _dot(fx, v)
+        step_powers(fext, v, diss, fx, drive_dof, load_dof, pw0)
         t1 = t + dt
         wr = _interp(t1, t_ref, w_ref)
         for j in range(n):
@@ -244,14 +240,8 @@ def run_chunk(
             if not (abs(a[j]) < 1e30) or (j % 6 < 3 and abs(q[j]) > max_disp):
                 ok = False
         t = t1
-        p_in1 = fext[drive_dof] * v[drive_dof]
-        p_out1 = -fext[load_dof] * v[load_dof]
-        energy[E_IN] += 0.5 * dt * (p_in0 + p_in1)
-        energy[E_OUT] += 0.5 * dt * (p_out0 + p_out1)
-        for c in range(5):
-            energy[2 + c] += 0.5 * dt * (d0[c] + diss[c])
-        if fx.size > 0:
-            energy[E_EXT] += 0.5 * dt * (px0 + _dot(fx, v))
+        step_powers(fext, v, diss, fx, drive_dof, load_dof, pw1)
+        book_energy(energy, dt, pw0, pw1)
         sc[0] = t
         sc[1] = integ
         sc[2] = td
@@ -327,28 +317,18 @@ def run_loop(
                xargs)
         done = 0
 
-    def state() -> dict:
-        return {**run_id, "step": done, **st, "rec": rec[: _recorded(done, rec_every)]}
+    def state(steps: int) -> dict:
+        return {**run_id, "step": steps, **st, "rec": rec[: _recorded(steps, rec_every)]}
 
-    status = 0
-    while done < n_steps:
-        m = ctl.next_chunk(done, n_steps)
-        w = time.perf_counter()
-        reached, code = run_chunk(
+    def advance(start: int, stop: int) -> tuple[int, int]:
+        return run_chunk(
             st["q"], st["v"], st["a"], st["fext"], st["diss"], st["bl"], st["mf"],
-            st["energy"], st["sc"], st["stats"], done, done + m, dt, rec_every, rec, Mcsr, LU,
+            st["energy"], st["sc"], st["stats"], start, stop, dt, rec_every, rec, Mcsr, LU,
             perm, lbw, ubw, Kc, Cc, bargs, margs, drive_dof, load_dof, ref_dof, drive_sign,
             ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp, rec_dofs, gargs, xargs,
             st["fx"], rtol)
-        w = time.perf_counter() - w
-        if code != 0:
-            done, status = reached, 1
-            break
-        done += m
-        ctl.chunk_done(m, w, done, n_steps, state)
-        if ctl.stop_requested and done < n_steps:
-            status = 2
-            break
+
+    done, status = drive_chunks(ctl, done, n_steps, advance, state)
     if status == 0 and n_steps % rec_every == 0:
         sc = st["sc"]
         record(rec, n_steps // rec_every, sc[0], sc[2], st["q"], st["v"], st["bl"], st["mf"],
