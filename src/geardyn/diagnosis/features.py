@@ -28,8 +28,9 @@ per block of whole revolutions:
   regular meshing also holds the planet-pass orders (multiples of N next to ``h·Z_r``,
   seed 003 §4.1);
 * **bearings**: squared-envelope spectrum in orders of the reference (band of maximum
-  spectral kurtosis, Antoni 2007, from the STFT kurtogram :mod:`geardyn.signal.kurtogram`,
-  unless ``envelope_band`` is given, below the resampling's anti-aliasing limit):
+  spectral kurtosis, Antoni 2007, from the fast kurtogram :mod:`geardyn.signal.kurtogram`
+  of the central :data:`KURTOGRAM_MAX_SAMPLES` samples, unless ``envelope_band`` is given,
+  below the resampling's anti-aliasing limit):
   for each line BPFO/BPFI/BSF/FTF, the mean over harmonics 1–3 of the peak within
   ``±max(2/R, 0.02·order)`` (R revolutions per block; 2 % allows for rolling-element slip) over
   the median level in ``±max(20/R, 0.2·order)`` (Randall & Antoni 2011, "Rolling element
@@ -88,6 +89,9 @@ WHEEL_SIDEBANDS = 3
 MIN_REVS_PER_BLOCK = 4
 #: Largest |a| + |b| of the combination tones a·Z_i + b·Z_j counted as regular meshing.
 COMBINATION_ORDER = 12
+#: Most samples of the reference-angle signal the kurtogram is estimated on
+#: (:func:`_kurtogram_span`).
+KURTOGRAM_MAX_SAMPLES = 2**22
 #: Bearing line harmonics.
 BEARING_HARMONICS = (1, 2, 3)
 TWO_PI = 2.0 * np.pi
@@ -628,12 +632,59 @@ def _bearing_features(
     return whole
 
 
+def _kurtogram_span(whole: np.ndarray, spr: int) -> np.ndarray:
+    """The whole revolutions at the centre of the record on which the kurtogram is estimated:
+    all of them up to :data:`KURTOGRAM_MAX_SAMPLES` samples, else the central
+    ``KURTOGRAM_MAX_SAMPLES // spr`` revolutions. The kurtogram only chooses the envelope band
+    of a record at a steady operating point; its estimate in a band of level ``k`` rests on
+    ``N·2^−k`` samples (standard deviation ≈ ``2/√(N·2^−k)`` for Gaussian noise, Antoni
+    2007), so 2²² samples keep it below 0.09 on every band at least one order wide at 16384
+    samples/rev (level ≤ 13) and leave Antoni's 128 samples per band at the finest level."""
+    n_rev = whole.size // spr
+    keep = max(1, KURTOGRAM_MAX_SAMPLES // spr)
+    if n_rev <= keep:
+        return whole
+    start = (n_rev - keep) // 2
+    return whole[start * spr : (start + keep) * spr]
+
+
+def min_envelope_band(components: Components) -> float:
+    """Narrowest envelope band [orders] worth choosing: the squared envelope of a signal
+    band-limited to a width ``B`` holds no frequency above ``B`` (its spectrum is the
+    autocorrelation of the band's spectrum), so a band narrower than the highest bearing
+    line harmonic judged, with the median window around it (:func:`_line_ratio`:
+    ``h·o·(1 + 0.2)``, h = max :data:`BEARING_HARMONICS`), cannot show it; at least one
+    order (an impulse once per reference revolution). Narrower bands of the kurtogram are
+    where its maximum falls by estimation noise alone when the record has no impulses (their
+    estimates rest on the fewest samples)."""
+    orders = [float(o) for c in components.bearings for o in c.fault_orders.values()
+              if np.isfinite(o) and o > 0]
+    return max([1.0] + [1.2 * max(BEARING_HARMONICS) * o for o in orders])
+
+
+def _kurtogram_levels(n: int, spr: int, min_band: float) -> int | None:
+    """Binary levels of a fast kurtogram of ``n`` samples at ``spr`` samples/rev whose
+    bands are at least ``min_band`` orders wide (bandwidth ``spr·2^−(k+1)``), within Antoni's
+    ``log2 n − 7``; None (the default) when that rule is the tighter one."""
+    top = int(np.floor(np.log2(max(n, 1)))) - 7
+    k = int(np.floor(np.log2(spr / min_band))) - 1
+    return max(1, k) if k < top else None
+
+
 def _spectrum_and_band(
-    ref: AngleSignal, units: str, envelope_band: tuple[float, float] | None, notes: list[str]
+    ref: AngleSignal,
+    units: str,
+    envelope_band: tuple[float, float] | None,
+    notes: list[str],
+    min_band: float = 1.0,
+    channel_top: float | None = None,
 ) -> tuple[xr.DataArray | None, xr.DataArray | None, tuple[float, float] | None]:
     """Order spectrum of the reference-angle signal, kurtogram and envelope band (orders):
     ``envelope_band`` if given, else the band of maximum spectral kurtosis below the
-    anti-aliasing limit of the resampling (Antoni 2007)."""
+    anti-aliasing limit of the resampling (Antoni 2007) among the bands at least
+    ``min_band`` orders wide (:func:`min_envelope_band`) and below ``channel_top`` (the
+    highest order a time-sampled channel holds; above it the angle grid holds only
+    interpolation images)."""
     spr = ref.samples_per_rev
     whole = _whole(ref)
     spec = None
@@ -649,8 +700,11 @@ def _spectrum_and_band(
             )
         return spec, None, (lo, hi)
     try:
-        top = min(float(ref.max_valid_order), 0.5 * spr)
-        kg = fast_kurtogram(whole, float(spr), unit="events/rev", fmax=top)
+        top = min(float(ref.max_valid_order), 0.5 * spr,
+                  np.inf if channel_top is None else channel_top)
+        span = _kurtogram_span(whole, spr)
+        kg = fast_kurtogram(span, float(spr), unit="events/rev", fmax=top,
+                            nlevel=_kurtogram_levels(span.size, spr, min_band))
     except InputError as exc:
         notes.append(f"kurtogram: {exc}; envelope of the full band")
         return spec, None, None
@@ -733,7 +787,12 @@ def extract_features(
     mean_rpm = 60.0 * revs / duration if duration > 0 else math.nan
     ctx = _Ctx(ref, nb, channel, units, [], {}, [])
 
-    spec, kg, band = _spectrum_and_band(ref, units, envelope_band, ctx.notes)
+    fs = _uniform_time(t)
+    # orders the channel holds at its fastest speed: 0.8 of its Nyquist frequency (the 2.56
+    # rule of the acquisition's anti-aliasing filter) over the highest rotation frequency
+    top = 0.4 * fs / (float(np.max(np.diff(th))) * fs / TWO_PI) if fs is not None else None
+    spec, kg, band = _spectrum_and_band(ref, units, envelope_band, ctx.notes,
+                                        min_envelope_band(components), top)
     env = _bearing_features(ctx, components, band)
 
     handled: set[str] = set()

@@ -21,6 +21,7 @@ Units: ``fs`` in Hz (frequency in Hz), or samples per revolution for an angle-do
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import xarray as xr
 from scipy import signal as sps
@@ -152,18 +153,50 @@ _H_THIRDS = tuple(_H1 * np.exp(2j * np.pi * (2 * i + 1) * _N_H1 / 12) for i in r
 _SAMPLES_FINEST = 2**7
 
 
-def _fir_decimate(x: np.ndarray, taps: np.ndarray, q: int) -> np.ndarray:
+@numba.njit(cache=True, nogil=True)
+def _fir_decimate_rows(x: np.ndarray, taps: np.ndarray, q: int, sign: bool) -> np.ndarray:  # pragma: no cover - numba
     """Rows of ``x`` filtered by ``taps`` (fully overlapping part only: no start-up
-    transient) and kept one sample in ``q``: ``y[k] = Σ_m taps[m] x[qk + L − 1 − m]``."""
+    transient) and kept one sample in ``q``: ``y[k] = Σ_m taps[m] x[qk + L − 1 − m]``, times
+    ``(−1)^k`` if ``sign``."""
+    rows, n = x.shape
     n_taps = taps.size
-    n_out = (x.shape[1] - n_taps) // q + 1
-    out = np.zeros((x.shape[0], max(n_out, 0)), dtype=complex)
-    if n_out <= 0:
-        return out
-    span = q * (n_out - 1) + 1
-    for m, c in enumerate(taps):
-        start = n_taps - 1 - m
-        out += c * x[:, start : start + span : q]
+    n_out = max((n - n_taps) // q + 1, 0)
+    out = np.empty((rows, n_out), dtype=np.complex128)
+    for r in range(rows):
+        for k in range(n_out):
+            acc = 0.0j
+            base = q * k + n_taps - 1
+            for m in range(n_taps):
+                acc += taps[m] * x[r, base - m]
+            out[r, k] = -acc if (sign and k % 2 == 1) else acc
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _fir_decimate_kurtosis(x: np.ndarray, taps: np.ndarray, q: int, floor: float) -> np.ndarray:  # pragma: no cover - numba
+    """:func:`_complex_kurtosis` of :func:`_fir_decimate_rows` ``(x, taps, q)``, without
+    storing the filtered rows (NaN for a row too short to give one output sample)."""
+    rows, n = x.shape
+    n_taps = taps.size
+    n_out = (n - n_taps) // q + 1
+    out = np.empty(rows)
+    for r in range(rows):
+        if n_out <= 0:
+            out[r] = np.nan
+            continue
+        m2 = 0.0
+        m4 = 0.0
+        for k in range(n_out):
+            acc = 0.0j
+            base = q * k + n_taps - 1
+            for m in range(n_taps):
+                acc += taps[m] * x[r, base - m]
+            p = acc.real * acc.real + acc.imag * acc.imag
+            m2 += p
+            m4 += p * p
+        m2 /= n_out
+        m4 /= n_out
+        out[r] = m4 / (m2 * m2) - 2.0 if m2 > floor else 0.0
     return out
 
 
@@ -171,32 +204,53 @@ def _complex_kurtosis(c: np.ndarray, floor: float) -> np.ndarray:
     """Kurtosis of complex envelopes (one per row): E|c|⁴ / (E|c|²)² − 2, zero for a
     circular complex Gaussian, −1 for a constant modulus (Antoni 2007). Rows whose
     power is at or below ``floor`` (rounding noise only) get 0, the Gaussian value."""
-    p = np.abs(c) ** 2
+    p = c.real**2 + c.imag**2
     m2 = p.mean(axis=1)
     m4 = (p * p).mean(axis=1)
     ok = m2 > floor
     return np.where(ok, m4 / np.where(ok, m2, 1.0) ** 2 - 2.0, 0.0)
 
 
-def _fast_kurtogram_rows(a: np.ndarray, nlevel: int) -> list[tuple[float, np.ndarray]]:
+def _kept(n_rows: int, width: float, fmax: float) -> int:
+    """Bands (in frequency order, ``width`` wide from 0) whose lower edge is below ``fmax``:
+    the others, and every band split from them, lie wholly above it."""
+    if not np.isfinite(fmax):
+        return n_rows
+    return min(n_rows, int(np.ceil(fmax / width - 1e-12)))
+
+
+def _fast_kurtogram_rows(
+    a: np.ndarray, nlevel: int, fmax: float = np.inf
+) -> list[tuple[float, np.ndarray]]:
     """(level, kurtosis of each band in frequency order) for levels 0, 1, 1.6, 2, …, nlevel
     of the 1/3-binary tree (Antoni 2007) fed with the analytic signal ``a + jH{a}``: the 1/2
     splits of level k−1 give level k, its 1/3 splits level k + log₂3 − 1 (bandwidth
-    ``2^−(level+1)`` of the sample rate)."""
+    ``2^−(level+1)`` of the sample rate). ``fmax`` (fraction of the sample rate): bands whose
+    lower edge is at or above it are not computed (NaN), nor split further — the filter bank
+    of the bands below it is the same."""
     floor = (16 * np.finfo(float).eps) ** 2 * float(np.mean(a * a))
     nodes = sps.hilbert(a)[None, :]
     rows = [(0.0, _complex_kurtosis(nodes, floor))]
     for k in range(1, nlevel + 1):
-        low = _fir_decimate(nodes, _H_LOW, 2)
-        high = _fir_decimate(nodes, _H_HIGH, 2)
+        keep = _kept(2 * nodes.shape[0], 2.0 ** -(k + 1), fmax)
+        src = nodes[: (keep + 1) // 2]
+        low = _fir_decimate_rows(src, _H_LOW, 2, False)
         # the decimated high part lies in [−1/2, 0]: (−1)^n brings it back to [0, 1/2]
-        high *= (-1.0) ** np.arange(high.shape[1])
+        high = _fir_decimate_rows(src, _H_HIGH, 2, True)
         halves = np.empty((2 * low.shape[0], low.shape[1]), dtype=complex)
         halves[0::2], halves[1::2] = low, high
-        rows.append((float(k), _complex_kurtosis(halves, floor)))
+        halves = halves[:keep]
+        kh = np.full(2**k, np.nan)
+        kh[:keep] = _complex_kurtosis(halves, floor)
+        rows.append((float(k), kh))
         if k < nlevel:  # 1/3 bands of level k − 1: level k + log2(3) − 1
-            thirds = [_fir_decimate(nodes, h, 3) for h in _H_THIRDS]
-            kq = np.stack([_complex_kurtosis(t, floor) for t in thirds], axis=1).ravel()
+            keep3 = _kept(3 * nodes.shape[0], 2.0 ** -(k + 1) * 2 / 3, fmax)
+            src3 = nodes[: (keep3 + 2) // 3]
+            kq = np.full(3 * 2 ** (k - 1), np.nan)
+            kq[: 3 * src3.shape[0]] = np.stack(
+                [_fir_decimate_kurtosis(src3, h, 3, floor) for h in _H_THIRDS], axis=1
+            ).ravel()
+            kq[keep3:] = np.nan
             rows.append((k + np.log2(3.0) - 1.0, kq))
         nodes = halves
     return rows
@@ -258,7 +312,8 @@ def fast_kurtogram(
     a = a - a.mean()
     if not np.any(a):
         raise InputError("x: the signal is constant; its kurtogram is undefined")
-    rows = _fast_kurtogram_rows(a, n_lev)
+    fm_frac = np.inf if fmax is None else positive("fmax", fmax, "highest band frequency") / f
+    rows = _fast_kurtogram_rows(a, n_lev, fm_frac)
     n_col = 3 * 2**n_lev
     unit_w = f / (2 * n_col)
     grid = (np.arange(n_col) + 0.5) * unit_w
