@@ -215,3 +215,20 @@ def test_trend_levels_from_simulated_runs(short_runs):
     assert len(lv.table) and (lv.table["alarm"] > lv.table["warning"]).all()
     with pytest.raises(InputError, match="'ghost' has no simulated counterpart"):
         simulated_reference(cfg, opts, "ghost")
+
+
+def test_one_override_list_serves_every_entry_point(tmp_path):
+    """diagnose, diagnose_files and diagnose_record take the same [diagnosis] overrides
+    (pipeline.Overrides): renamed fields mapped, a keyword that does not apply refused."""
+    from geardyn.diagnosis.measured import diagnose_record
+    from geardyn.diagnosis.pipeline import diagnose_files, options_from
+
+    cfg = geardyn.load_config(EXAMPLES / "seed004_planetary.toml")
+    o = options_from(cfg, {"k": 4.5, "n_blocks": 3, "skip_s": None}, "diagnose")
+    assert (o.threshold_k, o.blocks) == (4.5, 3)
+    with pytest.raises(TypeError, match="diagnose_files.*t_end_s"):
+        diagnose_files(["h.nc"], "r.nc", cfg, tmp_path, t_end_s=3.0)
+    with pytest.raises(TypeError, match="diagnose_record.*record_seed"):
+        diagnose_record(cfg, "r.nc", tmp_path, record_seed=5)
+    with pytest.raises(TypeError, match="blocks"):
+        options_from(cfg, {"blocks": 3}, "diagnose")

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Unpack
 
 import numpy as np
 import xarray as xr
@@ -28,7 +28,7 @@ from geardyn.errors import InputError
 
 if TYPE_CHECKING:
     from geardyn.config.loader import GeardynConfig
-    from geardyn.diagnosis.pipeline import Progress
+    from geardyn.diagnosis.pipeline import Overrides, Progress
     from geardyn.diagnosis.verdict import Verdict
 
 
@@ -108,24 +108,16 @@ def diagnose_record(
     *,
     baseline_paths: Sequence[str | Path] = (),
     simulate: bool | None = None,
-    channel: str | None = None,
-    reference: str | None = None,
-    k: float | None = None,
-    false_alarm_probability: float | None = None,
-    sigma_floor: float | None = None,
-    n_blocks: int | None = None,
-    skip_s: float | None = None,
-    baseline_seeds: Sequence[int] | None = None,
-    t_end_s: float | None = None,
-    revolutions: float | None = None,
-    reference_residuals: bool | None = None,
     progress: Progress | None = None,
+    **overrides: Unpack[Overrides],
 ) -> Verdict:
     """Judge the record file against measured baseline files, simulated healthy runs, or both
     (``simulate``: default True when no baseline file is given); write ``out_dir/verdict.json``
     and ``out_dir/report.html``. The record is read (and its mapping checked) before any
     simulation. Planetary runs last as long as the record unless ``t_end_s`` or
-    ``[diagnosis] t_end_s`` says otherwise."""
+    ``[diagnosis] t_end_s`` says otherwise. ``overrides``: the ``[diagnosis]`` keywords of
+    :func:`geardyn.diagnosis.pipeline.diagnose` (:class:`~geardyn.diagnosis.pipeline.
+    Overrides`) but ``record_seed``."""
     from geardyn.diagnosis.pipeline import (
         _blocks,
         _check_status,
@@ -134,17 +126,14 @@ def diagnose_record(
         _run_length,
         _say,
         check_output_dir,
-        options,
+        options_from,
     )
 
     simulate = (not baseline_paths) if simulate is None else simulate
     if not baseline_paths and not simulate:
         raise InputError("baseline: give healthy baseline file(s) (--baseline) or simulate "
                          "the healthy machine (--simulate-baseline)")
-    opts = options(cfg, channel=channel, reference=reference, threshold_k=k,
-                   false_alarm_probability=false_alarm_probability, sigma_floor=sigma_floor,
-                   blocks=n_blocks, skip_s=skip_s, reference_residuals=reference_residuals,
-                   baseline_seeds=baseline_seeds, t_end_s=t_end_s, revolutions=revolutions)
+    opts = options_from(cfg, overrides, "diagnose_record", refused=("record_seed",))
     out = check_output_dir(out_dir)
     for path in baseline_paths:  # every file named exists, before any reading
         if not Path(path).is_file():

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import math
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypedDict, Unpack
 
 import xarray as xr
 from pydantic import ValidationError
@@ -39,6 +39,43 @@ if TYPE_CHECKING:
 
 #: ``progress(message, fraction)``: what is being done and the overall fraction done (0–1).
 Progress = Callable[[str, float], None]
+
+
+class Overrides(TypedDict, total=False):
+    """Keyword overrides of ``[diagnosis]`` taken by :func:`diagnose`, :func:`diagnose_files`
+    and :func:`geardyn.diagnosis.measured.diagnose_record` (None: the config's value). The
+    names are the DiagnosisSpec fields but for ``k`` (``threshold_k``) and ``n_blocks``
+    (``blocks``); :data:`SIMULATION_ONLY` ones apply where healthy runs are simulated."""
+
+    channel: str | None
+    reference: str | None
+    k: float | None
+    false_alarm_probability: float | None
+    sigma_floor: float | None
+    n_blocks: int | None
+    skip_s: float | None
+    reference_residuals: bool | None
+    baseline_seeds: Sequence[int] | None
+    record_seed: int | None
+    t_end_s: float | None
+    revolutions: float | None
+
+
+#: Override keywords whose DiagnosisSpec field has another name.
+_FIELD = {"k": "threshold_k", "n_blocks": "blocks"}
+#: Overrides that set the simulated runs (seeds, run length).
+SIMULATION_ONLY = ("baseline_seeds", "record_seed", "t_end_s", "revolutions")
+
+
+def options_from(cfg: GeardynConfig, overrides: Mapping[str, Any], caller: str,
+                 refused: Sequence[str] = ()) -> DiagnosisSpec:
+    """:func:`options` from the :class:`Overrides` keywords of ``caller``; a keyword that is
+    not an override, or one of ``refused``, is a TypeError naming it (as Python's own for
+    an unexpected keyword)."""
+    bad = sorted(k for k in overrides if k not in Overrides.__annotations__ or k in refused)
+    if bad:
+        raise TypeError(f"{caller}() got unexpected keyword argument(s) {', '.join(bad)}")
+    return options(cfg, **{_FIELD.get(k, k): v for k, v in overrides.items()})
 
 
 def options(cfg: GeardynConfig, **overrides: Any) -> DiagnosisSpec:
@@ -303,19 +340,8 @@ def diagnose(
     cfg: GeardynConfig,
     out_dir: str | Path,
     *,
-    baseline_seeds: Sequence[int] | None = None,
-    record_seed: int | None = None,
-    channel: str | None = None,
-    reference: str | None = None,
-    k: float | None = None,
-    false_alarm_probability: float | None = None,
-    sigma_floor: float | None = None,
-    n_blocks: int | None = None,
-    skip_s: float | None = None,
-    t_end_s: float | None = None,
-    revolutions: float | None = None,
-    reference_residuals: bool | None = None,
     progress: Progress | None = None,
+    **overrides: Unpack[Overrides],
 ) -> Verdict:
     """Simulate the healthy baseline and the faulty record of ``cfg``, judge the record and
     write ``out_dir/verdict.json`` and ``out_dir/report.html``.
@@ -330,11 +356,7 @@ def diagnose(
     """
     from geardyn.run import run_simulation
 
-    opts = options(cfg, baseline_seeds=baseline_seeds, record_seed=record_seed, channel=channel,
-                   reference=reference, threshold_k=k, sigma_floor=sigma_floor, blocks=n_blocks,
-                   false_alarm_probability=false_alarm_probability,
-                   skip_s=skip_s, t_end_s=t_end_s, revolutions=revolutions,
-                   reference_residuals=reference_residuals)
+    opts = options_from(cfg, overrides, "diagnose")
     check_ready(cfg, opts)
     out = check_output_dir(out_dir)
     if opts.record_seed in opts.baseline_seeds:
@@ -397,15 +419,8 @@ def diagnose_files(
     cfg: GeardynConfig,
     out_dir: str | Path,
     *,
-    channel: str | None = None,
-    reference: str | None = None,
-    k: float | None = None,
-    false_alarm_probability: float | None = None,
-    sigma_floor: float | None = None,
-    n_blocks: int | None = None,
-    skip_s: float | None = None,
-    reference_residuals: bool | None = None,
     progress: Progress | None = None,
+    **overrides: Unpack[Overrides],
 ) -> Verdict:
     """Judge the result file ``record_path`` against the healthy result files
     ``baseline_paths`` (NetCDF in the result layout, e.g. from ``geardyn simulate`` or a
@@ -414,10 +429,7 @@ def diagnose_files(
     are not assumed to be those of the record (expected faults unknown)."""
     if not baseline_paths:
         raise InputError("baseline: give at least one healthy result file (--baseline)")
-    opts = options(cfg, channel=channel, reference=reference, threshold_k=k,
-                   false_alarm_probability=false_alarm_probability,
-                   sigma_floor=sigma_floor, blocks=n_blocks, skip_s=skip_s,
-                   reference_residuals=reference_residuals)
+    opts = options_from(cfg, overrides, "diagnose_files", refused=SIMULATION_ONLY)
     out = check_output_dir(out_dir)
     n = len(baseline_paths) + 1
     feats = []

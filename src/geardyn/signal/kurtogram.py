@@ -154,7 +154,9 @@ _SAMPLES_FINEST = 2**7
 
 
 @numba.njit(cache=True, nogil=True)
-def _fir_decimate_rows(x: np.ndarray, taps: np.ndarray, q: int, sign: bool) -> np.ndarray:  # pragma: no cover - numba
+def _fir_decimate_rows(  # pragma: no cover - numba
+    x: np.ndarray, taps: np.ndarray, q: int, sign: bool
+) -> np.ndarray:
     """Rows of ``x`` filtered by ``taps`` (fully overlapping part only: no start-up
     transient) and kept one sample in ``q``: ``y[k] = Σ_m taps[m] x[qk + L − 1 − m]``, times
     ``(−1)^k`` if ``sign``."""
@@ -173,7 +175,9 @@ def _fir_decimate_rows(x: np.ndarray, taps: np.ndarray, q: int, sign: bool) -> n
 
 
 @numba.njit(cache=True, nogil=True)
-def _fir_decimate_kurtosis(x: np.ndarray, taps: np.ndarray, q: int, floor: float) -> np.ndarray:  # pragma: no cover - numba
+def _fir_decimate_kurtosis(  # pragma: no cover - numba
+    x: np.ndarray, taps: np.ndarray, q: int, floor: float
+) -> np.ndarray:
     """:func:`_complex_kurtosis` of :func:`_fir_decimate_rows` ``(x, taps, q)``, without
     storing the filtered rows (NaN for a row too short to give one output sample)."""
     rows, n = x.shape
