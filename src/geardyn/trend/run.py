@@ -4,8 +4,10 @@
 record through the ``[measurement]`` mapping, the diagnosis' features of its channel), on a
 ``dask.distributed`` cluster (:func:`geardyn.sweep.runner._client`: a scheduler address, or a
 LocalCluster of single-threaded worker processes) when there are several records and more
-than one worker, else in this process. Only this process writes the store, one record at a
-time, as results arrive: Ctrl-C keeps every record already written and a re-run resumes.
+than one worker, else in this process. Each record is written into the store by the process
+that read it (in its own group, written aside and renamed: the client stays idle, so two
+workers keep two cores busy): Ctrl-C keeps every record already written and a re-run
+resumes.
 """
 
 from __future__ import annotations
@@ -79,8 +81,14 @@ def _task(args: tuple[str, str, Any, Any]) -> tuple[str, str, Any, Any]:
         return key, path, None, str(exc)
 
 
-def _remote(path: str, key: str, cfg: Any, opts: Any) -> tuple[str, str, Any, Any]:
-    return _task((path, key, cfg, opts))
+def _remote(path: str, key: str, cfg: Any, opts: Any, store: str) -> tuple[str, str, Any, Any]:
+    """Worker task: the record's indicators written into the store by the worker itself (its
+    own group, written aside and renamed: workers never share a group), so that the client
+    only collects names; returns (key, path, True/False added, info) or (…, None, reason)."""
+    key, path, table, info = _task((path, key, cfg, opts))
+    if table is None:
+        return key, path, None, info
+    return key, path, TrendStore(store, create=False, tidy=False).add(key, table, info), info
 
 
 def update_store(store: TrendStore, paths: Sequence[Path], cfg: Any, opts: Any, *,
@@ -89,7 +97,8 @@ def update_store(store: TrendStore, paths: Sequence[Path], cfg: Any, opts: Any, 
                  ) -> dict[str, list[str]]:
     """Add the records not yet in ``store``; returns the files ``added``, ``present`` and
     ``failed`` (with the reason) — a failed record is reported, not stored, and tried again
-    on the next run."""
+    on the next run. On a cluster each worker writes the records it reads (the store must be
+    on a file system the workers share, as for a LocalCluster)."""
     have = store.keys()
     todo, present = [], []
     for p in paths:
@@ -99,11 +108,11 @@ def update_store(store: TrendStore, paths: Sequence[Path], cfg: Any, opts: Any, 
     done: dict[str, list[str]] = {"added": [], "present": [p for p, _ in present], "failed": []}
     tasks = [(p, k, cfg, opts) for p, k in dict((k, (p, k)) for p, k in todo).values()]
 
-    def keep(result: tuple[str, str, Any, Any]) -> None:
+    def keep(result: tuple[str, str, Any, Any], written: bool = False) -> None:
         key, path, table, info = result
         if table is None:
             done["failed"].append(info if str(info).startswith(path) else f"{path}: {info}")
-        elif store.add(key, table, info):
+        elif (table is True) if written else store.add(key, table, info):
             done["added"].append(path)
         if progress is not None:
             progress(f"indicators of {Path(path).name}",
@@ -121,7 +130,8 @@ def update_store(store: TrendStore, paths: Sequence[Path], cfg: Any, opts: Any, 
         # the config and options go to every worker once, not with every task
         cfg_f, opts_f = client.scatter([cfg, opts], broadcast=True)
         futures = client.map(_remote, [t[0] for t in tasks], [t[1] for t in tasks],
-                             cfg=cfg_f, opts=opts_f, pure=False)
+                             cfg=cfg_f, opts=opts_f, store=str(store.path.resolve()),
+                             pure=False)
         for fut in as_completed(futures):
-            keep(fut.result())
+            keep(fut.result(), written=True)
     return done

@@ -46,7 +46,9 @@ def record_key(path: str | Path) -> str:
 class TrendStore:
     """A trend store at ``path`` (created on first use)."""
 
-    def __init__(self, path: str | Path, create: bool = True) -> None:
+    def __init__(self, path: str | Path, create: bool = True, tidy: bool = True) -> None:
+        """``tidy``: remove the temporary groups an interrupted write left (False for the
+        writers of a running update, whose own temporary groups are in flight)."""
         self.path = Path(path)
         mark = self.path / _MARK
         if self.path.exists():
@@ -63,8 +65,9 @@ class TrendStore:
             mark.write_text(json.dumps({"layout": LAYOUT}))
         else:
             raise InputError(f"--store: '{self.path}' does not exist")
-        for tmp in (self.path / "records").glob(".tmp-*"):  # an interrupted write
-            shutil.rmtree(tmp, ignore_errors=True)
+        if tidy:
+            for tmp in (self.path / "records").glob(".tmp-*"):  # an interrupted write
+                shutil.rmtree(tmp, ignore_errors=True)
 
     def keys(self) -> set[str]:
         return {p.name for p in (self.path / "records").iterdir() if not p.name.startswith(".")}
