@@ -220,3 +220,31 @@ def test_bad_input(kwargs, match):
 def test_squared_envelope_spectrum_bad_band():
     with pytest.raises(InputError, match="band: need 0 < f_lo < f_hi < fs/2"):
         squared_envelope_spectrum(np.random.default_rng(0).normal(size=4096), FS, (0.0, 100.0))
+
+
+def test_band_squared_envelope_spectrum_equals_the_analytic_signal_one():
+    """The SES of a band from the band's own Fourier bins (autocorrelation of the analytic
+    spectrum) equals the one through the record-long analytic signal (independent method,
+    scipy's Hilbert transform): up to the bandwidth, where |z|² has its content, relative
+    difference below 1e-5 on every bin above 1e-6 of the peak (the largest, 2e-6 at the
+    lowest lag, from the band-pass's start and end transients outside the band) and below
+    1e-12 on most; a modulation at 5.3 orders reads its closed-form amplitude."""
+    from geardyn.signal.envelope import band_squared_envelope_spectrum, envelope_spectrum
+
+    rng = np.random.default_rng(4)
+    spr, revs, band = 1024, 400, (100.0, 180.0)
+    th = 2 * np.pi * np.arange(spr * revs) / spr
+    x = 0.3 * rng.standard_normal(th.size) + np.cos(140 * th) * (1 + 0.5 * np.cos(5.3 * th))
+    ref = envelope_spectrum(x, float(spr), band).values
+    new = band_squared_envelope_spectrum(x, float(spr), band)
+    kb = int((band[1] - band[0]) * revs)
+    a, b = ref[1:kb], new.values[1:kb]
+    big = a > 1e-6 * a.max()
+    rel = np.abs(b[big] / a[big] - 1)
+    assert np.max(rel) < 1e-5
+    assert np.median(rel) < 1e-12
+    assert float(new["frequency"][1]) == pytest.approx(1.0 / revs)
+    # |z|² = (1 + 0.5 cos)² = 1.125 + cos + 0.125 cos(2·) : line of amplitude 1 at 5.3 orders
+    assert new.values[int(round(5.3 * revs))] == pytest.approx(1.0, rel=0.01)
+    with pytest.raises(InputError, match="band"):
+        band_squared_envelope_spectrum(x, float(spr), (200.0, 100.0))

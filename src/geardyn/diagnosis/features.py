@@ -64,7 +64,7 @@ if TYPE_CHECKING:
     from geardyn.config import Mechanism
 from geardyn.errors import InputError
 from geardyn.signal._checks import array1d, positive_int
-from geardyn.signal.envelope import envelope_spectrum
+from geardyn.signal.envelope import band_squared_envelope_spectrum, envelope_spectrum
 from geardyn.signal.indicators import (
     energy_ratio,
     fm0,
@@ -596,6 +596,13 @@ def _line_ratio(ses: np.ndarray, res: float, order: float) -> float:
     return peak / level if level > 0 else math.nan
 
 
+def _ses_function(band: tuple[float, float] | None) -> Callable[..., xr.DataArray]:
+    """Squared-envelope spectrum of a band from the band's own Fourier bins
+    (:func:`geardyn.signal.envelope.band_squared_envelope_spectrum`: the same values without
+    the record-long complex FFTs), of the full band by the analytic signal otherwise."""
+    return envelope_spectrum if band is None else band_squared_envelope_spectrum
+
+
 def _bearing_features(
     ctx: _Ctx, comps: Components, band: tuple[float, float] | None
 ) -> xr.DataArray | None:
@@ -605,7 +612,8 @@ def _bearing_features(
     n_rev = x.size // spr
     if n_rev < 1:
         return None
-    whole = envelope_spectrum(x, float(spr), band)
+    ses = _ses_function(band)
+    whole = ses(x, float(spr), band)
     whole = whole.rename(frequency="order")
     whole["order"].attrs["units"] = "events/rev"
     whole.attrs["units"] = f"({ctx.units})^2" if ctx.units else ""
@@ -615,7 +623,7 @@ def _bearing_features(
     for b in range(nb):
         seg = x[b * rpb * spr : (b + 1) * rpb * spr]
         try:
-            ses = envelope_spectrum(seg, float(spr), band).values
+            values = ses(seg, float(spr), band).values
         except InputError:
             continue
         res = 1.0 / rpb
@@ -625,7 +633,7 @@ def _bearing_features(
                 o = float(comp.fault_orders.get(line, math.nan))
                 if not np.isfinite(o) or o <= 0:
                     continue
-                ratios = [_line_ratio(ses, res, h * o) for h in BEARING_HARMONICS]
+                ratios = [_line_ratio(values, res, h * o) for h in BEARING_HARMONICS]
                 ratios = [r for r in ratios if np.isfinite(r)]
                 vals[line] = float(np.mean(ratios)) if ratios else math.nan
             ctx.add(comp, vals, b)
@@ -639,7 +647,7 @@ def _kurtogram_span(whole: np.ndarray, spr: int) -> np.ndarray:
     of a record at a steady operating point; its estimate in a band of level ``k`` rests on
     ``N·2^−k`` samples (standard deviation ≈ ``2/√(N·2^−k)`` for Gaussian noise, Antoni
     2007), so 2²² samples keep it below 0.09 on every band at least one order wide at 16384
-    samples/rev (level ≤ 13) and leave Antoni's 128 samples per band at the finest level."""
+    samples/rev (level ≤ 13) and give Antoni's 128 samples per band at level 15."""
     n_rev = whole.size // spr
     keep = max(1, KURTOGRAM_MAX_SAMPLES // spr)
     if n_rev <= keep:
@@ -648,43 +656,16 @@ def _kurtogram_span(whole: np.ndarray, spr: int) -> np.ndarray:
     return whole[start * spr : (start + keep) * spr]
 
 
-def min_envelope_band(components: Components) -> float:
-    """Narrowest envelope band [orders] worth choosing: the squared envelope of a signal
-    band-limited to a width ``B`` holds no frequency above ``B`` (its spectrum is the
-    autocorrelation of the band's spectrum), so a band narrower than the highest bearing
-    line harmonic judged, with the median window around it (:func:`_line_ratio`:
-    ``h·o·(1 + 0.2)``, h = max :data:`BEARING_HARMONICS`), cannot show it; at least one
-    order (an impulse once per reference revolution). Narrower bands of the kurtogram are
-    where its maximum falls by estimation noise alone when the record has no impulses (their
-    estimates rest on the fewest samples)."""
-    orders = [float(o) for c in components.bearings for o in c.fault_orders.values()
-              if np.isfinite(o) and o > 0]
-    return max([1.0] + [1.2 * max(BEARING_HARMONICS) * o for o in orders])
-
-
-def _kurtogram_levels(n: int, spr: int, min_band: float) -> int | None:
-    """Binary levels of a fast kurtogram of ``n`` samples at ``spr`` samples/rev whose
-    bands are at least ``min_band`` orders wide (bandwidth ``spr·2^−(k+1)``), within Antoni's
-    ``log2 n − 7``; None (the default) when that rule is the tighter one."""
-    top = int(np.floor(np.log2(max(n, 1)))) - 7
-    k = int(np.floor(np.log2(spr / min_band))) - 1
-    return max(1, k) if k < top else None
-
-
 def _spectrum_and_band(
     ref: AngleSignal,
     units: str,
     envelope_band: tuple[float, float] | None,
     notes: list[str],
-    min_band: float = 1.0,
-    channel_top: float | None = None,
 ) -> tuple[xr.DataArray | None, xr.DataArray | None, tuple[float, float] | None]:
     """Order spectrum of the reference-angle signal, kurtogram and envelope band (orders):
     ``envelope_band`` if given, else the band of maximum spectral kurtosis below the
-    anti-aliasing limit of the resampling (Antoni 2007) among the bands at least
-    ``min_band`` orders wide (:func:`min_envelope_band`) and below ``channel_top`` (the
-    highest order a time-sampled channel holds; above it the angle grid holds only
-    interpolation images)."""
+    anti-aliasing limit of the resampling (Antoni 2007), estimated on the central
+    revolutions of the record (:func:`_kurtogram_span`)."""
     spr = ref.samples_per_rev
     whole = _whole(ref)
     spec = None
@@ -700,11 +681,9 @@ def _spectrum_and_band(
             )
         return spec, None, (lo, hi)
     try:
-        top = min(float(ref.max_valid_order), 0.5 * spr,
-                  np.inf if channel_top is None else channel_top)
-        span = _kurtogram_span(whole, spr)
-        kg = fast_kurtogram(span, float(spr), unit="events/rev", fmax=top,
-                            nlevel=_kurtogram_levels(span.size, spr, min_band))
+        top = min(float(ref.max_valid_order), 0.5 * spr)
+        kg = fast_kurtogram(_kurtogram_span(whole, spr), float(spr), unit="events/rev",
+                            fmax=top)
     except InputError as exc:
         notes.append(f"kurtogram: {exc}; envelope of the full band")
         return spec, None, None
@@ -787,12 +766,7 @@ def extract_features(
     mean_rpm = 60.0 * revs / duration if duration > 0 else math.nan
     ctx = _Ctx(ref, nb, channel, units, [], {}, [])
 
-    fs = _uniform_time(t)
-    # orders the channel holds at its fastest speed: 0.8 of its Nyquist frequency (the 2.56
-    # rule of the acquisition's anti-aliasing filter) over the highest rotation frequency
-    top = 0.4 * fs / (float(np.max(np.diff(th))) * fs / TWO_PI) if fs is not None else None
-    spec, kg, band = _spectrum_and_band(ref, units, envelope_band, ctx.notes,
-                                        min_envelope_band(components), top)
+    spec, kg, band = _spectrum_and_band(ref, units, envelope_band, ctx.notes)
     env = _bearing_features(ctx, components, band)
 
     handled: set[str] = set()
