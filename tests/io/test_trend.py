@@ -113,3 +113,32 @@ def test_store_is_idempotent_and_ignores_interrupted_writes(tmp_path):
     assert st.keys() == {record_key(f)}
     h = st.table()
     assert len(h) == 1 and h["value"].iloc[0] == 2.0  # median over blocks
+
+
+def test_cluster_workers_write_the_same_store(tmp_path):
+    """On a 2-worker LocalCluster each worker writes the records it reads (in batches): the
+    store holds the same rows as one written in this process, a record failing is reported
+    and not stored, and re-running adds nothing."""
+    from benchmarks.bench_trend import CONFIG, FS, _records
+
+    import geardyn
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.trend import TrendStore, update_store
+
+    (tmp_path / "pump.toml").write_text(CONFIG.replace("50000.0", str(FS)))
+    cfg = geardyn.load_config(tmp_path / "pump.toml")
+    opts = options(cfg)
+    paths = _records(tmp_path, 6)
+    bad = tmp_path / "bad.npy"
+    np.save(bad, np.zeros((10, 2), np.float32))
+    one = update_store(TrendStore(tmp_path / "one.zarr"), paths, cfg, opts, workers=1)
+    store = TrendStore(tmp_path / "two.zarr")
+    two = update_store(store, [*paths, bad], cfg, opts, workers=2)
+    assert sorted(two["added"]) == sorted(one["added"]) == sorted(map(str, paths))
+    assert len(two["failed"]) == 1 and str(bad) in two["failed"][0]
+    cols = ["key", "component", "indicator", "value"]
+    a = TrendStore(tmp_path / "one.zarr").table()[cols].sort_values(cols[:3])
+    b = store.table()[cols].sort_values(cols[:3])
+    assert np.array_equal(a.to_numpy(), b.to_numpy())
+    assert update_store(store, paths, cfg, opts, workers=2)["added"] == []
+    assert not list((tmp_path / "two.zarr" / "records").glob(".tmp-*"))
