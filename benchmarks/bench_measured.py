@@ -20,12 +20,15 @@ are the comparable figures), read + diagnose:
 samples   code                          diagnose wall / CPU  peak RSS
 ========  ============================  ===================  ============
 3e6       session 3 (commit 4d83ea7)    130.0 s / 51.1 s     3.00 GB
-3e6       this code                     19.9 s / 8.6 s       2.49 GB
-6e6       this code                     51.4 s / 24.5 s      3.81 GB
+3e6       this code before main's sinc  19.9 s / 8.6 s       2.49 GB
+6e6       same                          51.4 s / 24.5 s      3.81 GB
+3e6       this code on 746295b          35.5 s / 12.0 s      2.45 GB
+3e6       main 746295b                  OverflowError in ``evidence_from_null``
 ========  ============================  ===================  ============
 
 (fast kurtogram in numba with the bands above the anti-aliasing limit pruned and estimated on
-the central 2²² samples; squared-envelope spectra from the band's own Fourier bins). The
+the central 2²² samples; squared-envelope spectra from the band's own Fourier bins; "main's
+sinc": the band-limited angular resampling of be81dc0, ≈ 3.4 s CPU more here). The
 issue's 3e7 target (≤ 30 s, ≤ 2 GB) is NOT met: by the 3e6–6e6 slope a 3e7 record needs
 ≈ 2.5 min CPU and ≈ 14 GB, because the channel is resampled whole to 16384 samples/rev (3.3×
 its own sample count) and every stage holds record-long arrays; meeting it needs the

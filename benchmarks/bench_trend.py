@@ -11,11 +11,12 @@ time: CPU of the in-process run over the CPU of every process of the cluster run
 scheduler and workers) — the parallel overhead alone, whatever else the machine runs.
 Count: ``GEARDYN_BENCH_TREND_N`` (default 1000).
 
-Measured (2026-11-26, shared 2-core machine, load average 6.8–8.1 from other jobs), 1000
-records: in-process 93.2 s wall, 82.3 s CPU; 2 workers 111.6 s wall (cluster start 5.0 s),
-100.6 s CPU (client + scheduler 4.9 s): CPU-time efficiency 0.82, wall efficiency 0.42 —
-the two workers got 0.9 of a core between them (100.6 s CPU in 111.6 s), so the wall figure
-measures the other jobs; on an idle machine it is bounded by the CPU one.
+Measured (2026-11-26, shared 2-core machine, load average 5.6–8.0 from other jobs), 1000
+records: in-process 83.3 s wall, 79.6 s CPU; 2 workers 95.2 s wall (cluster start 3.4 s),
+98.8 s CPU (client + scheduler 4.8 s): CPU-time efficiency 0.81 (0.82 in an earlier run),
+wall efficiency 0.44 — the two workers got about one core between them (98.8 s CPU in
+95.2 s), so the wall figure measures the other jobs; on an idle machine it is bounded by the
+CPU one.
 """
 
 from __future__ import annotations
