@@ -23,7 +23,7 @@ samples   code                          diagnose wall / CPU  peak RSS
 3e6       this code before main's sinc  19.9 s / 8.6 s       2.49 GB
 6e6       same                          51.4 s / 24.5 s      3.81 GB
 3e6       this code on 746295b          35.5 s / 12.0 s      2.45 GB
-3e6       main 746295b                  OverflowError in ``evidence_from_null``
+3e6       main 746295b                  OverflowError (fixed in 65e36ed)
 ========  ============================  ===================  ============
 
 (fast kurtogram in numba with the bands above the anti-aliasing limit pruned and estimated on
@@ -190,8 +190,8 @@ def _child(cmd: list[str]) -> tuple[float, float, str, float, float, int, float]
 
 #: Healthy 60 s records (features computed beforehand, not timed). Three: with two, the
 #: Student quantile of one degree of freedom at the Šidák level (≈ 2400) times an ordinary
-#: log-spread of a bearing band-energy share overflows ``math.exp`` in
-#: ``isolation.evidence_from_null`` (seen on this record).
+#: log-spread of a bearing band-energy share overflowed ``math.exp`` in
+#: ``isolation.evidence_from_null`` before main's 65e36ed (seen on this record).
 N_BASELINES = 3
 
 #: Largest record diagnosed (≈ 0.45 GB of peak memory per 1e6 samples: a 3e7 diagnosis would
