@@ -13,7 +13,7 @@ import pytest
 from geardyn.signal.resample import interpolate_bandlimited, resample_to_angle
 
 
-@pytest.mark.parametrize("ratio", [0.05, 0.2, 0.35, 0.39])
+@pytest.mark.parametrize("ratio", [0.05, 0.2, 0.35, 0.39])  # flat band: fs/2.56
 def test_kernel_passes_the_band_and_leaves_no_images(ratio: float) -> None:
     rng = np.random.default_rng(1)
     i = np.arange(4000)
@@ -39,4 +39,13 @@ def test_synchronous_average_holds_only_the_tone() -> None:
     # the former 4-point Lagrange interpolation gave 0.78 at the tone and 0.137 at order 650
     # (= fs − f in orders)
     assert others.max() < 1e-4
-    assert sig.max_valid_order == pytest.approx(fs / 2.56 / f_rot, rel=1e-9)
+    assert sig.max_valid_order == pytest.approx(0.42 * fs / f_rot, rel=1e-9)
+
+
+def test_kernel_gain_at_the_kept_band_edge() -> None:
+    # SINC_PASSBAND: within 5 % of 1 at 0.42·fs (the orders a resampled record keeps)
+    i = np.arange(4000)
+    pos = np.linspace(100.25, 3899.25, 15000)
+    y = interpolate_bandlimited(np.cos(2 * np.pi * 0.42 * i), pos)
+    ref = np.cos(2 * np.pi * 0.42 * pos)
+    assert 0.95 < float(np.dot(y, ref) / np.dot(ref, ref)) < 1.0

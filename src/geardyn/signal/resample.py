@@ -18,10 +18,10 @@ order spectrum (events per revolution, seed 002 §3.2). Steps:
    raise the noise floor. The kernel keeps content up to ``fs/2.56`` (passband ripple below
    1e-4) and rejects images by 80 dB.
 
-The orders a record supports are limited by both the anti-aliasing cut-off and the channel's
-own band ``fs/2.56`` (a measurement's usable band; above it the signal holds the acquisition's
-anti-aliasing roll-off, and in a resampled signal only images):
-``max_valid_order = min(0.8·cutoff, fs/2.56)/f_rot,max``.
+The orders a record supports are limited by both the anti-aliasing cut-off and the band the
+interpolation keeps, :data:`SINC_PASSBAND` ``= 0.42·fs`` (gain within 5 % of 1, no images;
+above ``fs/2`` a resampled signal holds only images):
+``max_valid_order = min(0.8·cutoff, 0.42·fs)/f_rot,max``.
 
 Units: time [s], angle [rad], speed [rad/s], orders [events/rev].
 """
@@ -164,6 +164,10 @@ SINC_HALF_WIDTH = 24
 #: Δf ≈ (A − 7.95)/(2.285·2π·(2·SINC_HALF_WIDTH − 1)) ≈ 0.107 for A = 80 dB) spans
 #: 0.397–0.503, so content up to fs/2.56 passes and images of it (above 0.6·fs) are rejected.
 SINC_CUTOFF = 0.45
+#: Highest frequency the resampled signal keeps [fraction of the input sample rate]: the
+#: kernel's gain is within 5 % of 1 below it (0.952 measured at 0.42·fs) and images of content
+#: below it fall above 0.58·fs, where the kernel rejects them by more than 50 dB.
+SINC_PASSBAND = 0.42
 #: Kaiser β for an 80 dB stopband (Kaiser 1974: β = 0.1102·(A − 8.7)).
 SINC_BETA = 0.1102 * (80.0 - 8.7)
 #: Kernel table resolution [points per input sample] (linear interpolation between points:
@@ -256,7 +260,7 @@ def resample_to_angle(
     of a tacho/encoder with ``pulses_per_rev``.
     Anti-aliasing: zero-phase low-pass at ``f_rot,min × samples_per_rev/2.56`` [Hz] (cannot
     alias at the slowest speed); band-limited interpolation (module docstring). Orders up to
-    ``max_valid_order = min(0.8·cutoff, fs/2.56)/f_rot,max`` pass unattenuated at every speed;
+    ``max_valid_order = min(0.8·cutoff, 0.42·fs)/f_rot,max`` pass at every speed;
     if ``max_order`` is given and exceeds that, an error tells the
     ``samples_per_rev`` needed (≈ 3.2 × max_order × speed ratio).
     Returns an :class:`AngleSignal` covering whole angle steps inside the record.
@@ -288,16 +292,17 @@ def resample_to_angle(
     f_min, f_max = float(f_rot.min()), float(f_rot.max())
     # Anti-aliasing: the largest cut-off that cannot alias at the slowest speed (2.56 rule).
     cutoff = f_min * spr / 2.56
-    # orders kept unattenuated at every speed, within the channel's own band fs/2.56
-    valid = min(0.8 * cutoff, f / 2.56) / f_max
+    # orders kept at every speed, within the band the interpolation keeps
+    valid = min(0.8 * cutoff, SINC_PASSBAND * f) / f_max
     if max_order is not None:
         mo = positive("max_order", max_order, "maximum order")
         if mo > valid:
-            if mo * f_max > f / 2.56:
+            if mo * f_max > SINC_PASSBAND * f:
                 raise InputError(
                     f"max_order: order {mo:g} at up to {f_max:.4g} rev/s is "
-                    f"{mo * f_max:.4g} Hz, beyond the channel's band fs/2.56 = "
-                    f"{f / 2.56:.4g} Hz (sample rate {f:.4g} Hz); use a smaller max_order"
+                    f"{mo * f_max:.4g} Hz, beyond the band angular resampling keeps, 0.42·fs "
+                    f"= {SINC_PASSBAND * f:.4g} Hz (sample rate {f:.4g} Hz); use a smaller "
+                    "max_order"
                 )
             need = int(np.ceil(mo * 2.56 / 0.8 * f_max / f_min))
             raise InputError(
