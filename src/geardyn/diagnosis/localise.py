@@ -56,6 +56,23 @@ def sidak_alpha(false_alarm_probability: float, tests: int) -> float:
     return float(-math.expm1(math.log1p(-p) / m))
 
 
+def per_test_level(false_alarm_probability: float, threshold_k: float | None, tests: int
+                   ) -> tuple[float, float, float]:
+    """(α per test, threshold factor k, family false-alarm probability P) over ``tests`` = m
+    tests: the Šidák level α = 1 − (1 − P)^(1/m) (Šidák 1967, :func:`sidak_alpha`) and
+    k = Φ⁻¹(1 − α); an explicit ``threshold_k`` overrides: α = Φ(−k), P = 1 − (1 − α)^m.
+    One rule for ``geardyn diagnose`` and sweep verdicts."""
+    from scipy.stats import norm
+
+    m = max(int(tests), 1)
+    if threshold_k is not None:
+        k = float(threshold_k)
+        alpha = float(norm.sf(k))
+        return alpha, k, float(-math.expm1(m * math.log1p(-alpha)))
+    alpha = sidak_alpha(false_alarm_probability, m)
+    return alpha, float(norm.isf(alpha)), float(false_alarm_probability)
+
+
 def posterior(scores: Mapping[str, float]) -> dict[str, float]:
     """Posterior of each hypothesis from its standardised score z (uniform prior,
     likelihood ratio exp(½·max(z, 0)²)); non-finite scores count as z = 0."""
@@ -361,5 +378,5 @@ def expected_match(location: list[str], expected: list[str], carriers: set[str],
             "planet_named": named if any(kinds.get(c) == "planet" for c in expected) else None}
 
 
-__all__ = ["combined_score", "expected_match", "localise", "name_planet", "pooled_scores",
-           "posterior", "sidak_alpha"]
+__all__ = ["combined_score", "expected_match", "localise", "name_planet", "per_test_level",
+           "pooled_scores", "posterior", "sidak_alpha"]

@@ -256,11 +256,10 @@ def judge_features(
     ``aligned`` is accepted for compatibility and ignored: the evidence compares each record
     with the baselines' mean revolution, which holds for baselines at other speeds and loads
     too."""
-    from scipy.stats import norm
 
     from geardyn.diagnosis.features import with_reference_residuals
     from geardyn.diagnosis.isolation import bearing_evidence, evidence_tests, sdr_evidence
-    from geardyn.diagnosis.localise import localise, sidak_alpha
+    from geardyn.diagnosis.localise import localise, per_test_level
     from geardyn.diagnosis.verdict import record_values
 
     del aligned
@@ -284,13 +283,8 @@ def judge_features(
     m_det = sum(1 for r in th0[th0["usable"]][["component", "kind", "indicator", "channel"]]
                 .to_numpy().tolist() if tuple(r) in keys)
     m = max(m_det + evidence_tests(baseline, record, record_blocks if blocks_ok else None), 1)
-    if opts.threshold_k is not None:  # an explicit factor overrides the stated probability
-        k = float(opts.threshold_k)
-        alpha = float(norm.sf(k))
-        p_fa = float(-math.expm1(m * math.log1p(-alpha)))
-    else:
-        alpha = sidak_alpha(p_fa, m)
-        k = float(norm.isf(alpha))
+    # an explicit factor overrides the stated probability
+    alpha, k, p_fa = per_test_level(p_fa, opts.threshold_k, m)
     rule = ThresholdRule(k=k, sigma_floor=opts.sigma_floor)
     th = thresholds(tables, rule, runs)
     items = record.components.items if record.components is not None else []

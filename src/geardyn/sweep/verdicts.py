@@ -208,25 +208,6 @@ def _members(label: str) -> list[str]:
     return label.split("+")
 
 
-def level(false_alarm_probability: float, threshold_k: float | None, tests: int
-          ) -> tuple[float, float, float]:
-    """(α per test, threshold factor k, family false-alarm probability P) over ``tests`` = m
-    tests, as :func:`geardyn.diagnosis.pipeline.judge_features` sets them: the Šidák level
-    α = 1 − (1 − P)^(1/m) (Šidák 1967; :func:`geardyn.diagnosis.localise.sidak_alpha`) and
-    k = Φ⁻¹(1 − α); an explicit ``threshold_k`` overrides: α = Φ(−k), P = 1 − (1 − α)^m."""
-    from scipy.stats import norm
-
-    from geardyn.diagnosis.localise import sidak_alpha
-
-    m = max(int(tests), 1)
-    if threshold_k is not None:
-        k = float(threshold_k)
-        alpha = float(norm.sf(k))
-        return alpha, k, float(-math.expm1(m * math.log1p(-alpha)))
-    alpha = sidak_alpha(false_alarm_probability, m)
-    return alpha, float(norm.isf(alpha)), float(false_alarm_probability)
-
-
 def _detection_tests(th0: pd.DataFrame, table: pd.DataFrame) -> int:
     """Detection tests of a record (as judge_features counts them): every usable
     (component, kind, indicator, channel) threshold the record has a finite value for."""
@@ -279,7 +260,7 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) ->
     """Verdict variables (module docstring) of the sweep data set ``ds``."""
     from geardyn.diagnosis.baseline import ThresholdRule, thresholds
     from geardyn.diagnosis.isolation import ROTATING, evidence_from_null
-    from geardyn.diagnosis.localise import localise
+    from geardyn.diagnosis.localise import localise, per_test_level
     from geardyn.diagnosis.verdict import judge
 
     n = ds.sizes["case"]
@@ -363,7 +344,8 @@ def verdicts(ds: xr.Dataset, opts: VerdictOutput, sweep: Sweep | None = None) ->
                          and np.isfinite(band[base, c, li]).sum() >= 2]
         m = (_detection_tests(th0, record) + len(bearing_tests)
              + (len(iso.domains(i, base, skip)) if iso is not None else 0))
-        alpha, k_factor, p_fa = level(opts.false_alarm_probability, opts.threshold_k, m)
+        alpha, k_factor, p_fa = per_test_level(opts.false_alarm_probability, opts.threshold_k,
+                                               m)
         th = thresholds_of(base, keep, k_factor)
         rule = ThresholdRule(k=k_factor, sigma_floor=floor)
         v = judge(record, th, rule, components=list(zip(comps, kinds, strict=True)))
