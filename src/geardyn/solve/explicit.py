@@ -547,6 +547,16 @@ def stable_time_step(M: np.ndarray, K_lin: np.ndarray) -> float:
     return 2.0 / math.sqrt(w2[0])
 
 
+def record_buffer(nrec: int, nd: int, nb: int, nm: int) -> np.ndarray:
+    """The record array of an FE run (columns of :func:`run_chunk`: time, reference turn, nd
+    displacements and velocities, 3 loads per bearing, one force per mesh) for ``nrec`` rows,
+    after the size check that names the option to lower."""
+    cols = 2 + 2 * nd + 3 * nb + nm
+    check_record_size(nrec, cols, "lower transmission.simulation.record_rate_hz or the "
+                      "revolutions")
+    return record_array((nrec, cols))
+
+
 def record_array(shape: tuple[int, int]) -> np.ndarray:
     """Zeroed record array on ordinary 4 kB pages. numpy asks for transparent huge pages on
     large arrays (madvise); with the kernel's defrag = madvise setting the first touch of
@@ -594,9 +604,7 @@ def run_loop(
     nm = margs[0].size
     nd = rec_dofs.size
     nrec = n_steps // rec_every + 1
-    check_record_size(nrec, 2 + 2 * nd + 3 * nb + nm, "lower transmission.simulation."
-                      "record_rate_hz or the revolutions")
-    rec = record_array((nrec, 2 + 2 * nd + 3 * nb + nm))
+    rec = record_buffer(nrec, nd, nb, nm)
     st = {"q": np.array(q, float), "v": np.array(v, float), "a": np.zeros(n),
           "fext": np.zeros(n), "diss": np.zeros(5), "bl": np.zeros((nb, 3)), "mf": np.zeros(nm),
           "energy": np.zeros(8), "sc": np.zeros(3), "fx": np.zeros(n if nx else 0)}

@@ -34,7 +34,7 @@ from numba import njit
 
 from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
-from geardyn.solve.control import RunControl, check_record_size, drive_chunks
+from geardyn.solve.control import RunControl, drive_chunks
 from geardyn.solve.explicit import (
     REC_BLOCK,
     _dot,
@@ -49,7 +49,7 @@ from geardyn.solve.explicit import (
     no_loads,
     no_support_tables,
     record,
-    record_array,
+    record_buffer,
     ref_sign_speed,
     step_powers,
 )
@@ -293,9 +293,7 @@ def run_loop(
     nm = margs[0].size
     nd = rec_dofs.size
     nrec = n_steps // rec_every + 1
-    check_record_size(nrec, 2 + 2 * nd + 3 * nb + nm, "lower transmission.simulation."
-                      "record_rate_hz or the revolutions")
-    rec = record_array((nrec, 2 + 2 * nd + 3 * nb + nm))
+    rec = record_buffer(nrec, nd, nb, nm)
     st = {"q": np.array(q, float), "v": np.array(v, float), "a": np.zeros(n),
           "fext": np.zeros(n), "diss": np.zeros(5), "bl": np.zeros((nb, 3)), "mf": np.zeros(nm),
           "energy": np.zeros(8), "sc": np.zeros(3), "fx": np.zeros(n if nx else 0),

@@ -44,12 +44,14 @@ from numba import njit
 
 from geardyn.errors import InputError
 from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
-from geardyn.solve.control import RunControl, check_record_size, drive_chunks
+from geardyn.solve.control import RunControl, drive_chunks
 from geardyn.solve.explicit import (
     E_MODAL,
     REC_BLOCK,
     _interp,
     book_energy,
+    record,
+    record_buffer,
     ref_sign_speed,
     step_powers,
 )
@@ -170,22 +172,6 @@ def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, j
 
 
 @njit(cache=True)
-def _record(rec, ir, t, td, q, v, rec_dofs, bl, mf, nd, nb, nm):  # pragma: no cover
-    """Row ``ir`` of the records (columns of :func:`geardyn.solve.explicit.run_chunk`) from
-    the port-filled q, v (the recorded DOFs are ports)."""
-    rec[ir, 0] = t
-    rec[ir, 1] = td
-    for r in range(nd):
-        rec[ir, 2 + r] = q[rec_dofs[r]]
-        rec[ir, 2 + nd + r] = v[rec_dofs[r]]
-    for j in range(nb):
-        for c in range(3):
-            rec[ir, 2 + 2 * nd + c * nb + j] = bl[j, c]
-    for j in range(nm):
-        rec[ir, 2 + 2 * nd + 3 * nb + j] = mf[j]
-
-
-@njit(cache=True)
 def _record_dense(rec, ir, t, td, j, cd, eta, deta, pm, p0, p1, Phr, bl0, bl1, mf0, mf1, w,
                   nd, nb, nm):  # pragma: no cover - compiled
     """Row ``ir`` at time t inside a step: the exact modal state at that time under the step's
@@ -278,7 +264,7 @@ def run_chunk(
         if tick % K == 0:
             if nbuf == 0:
                 r0 = tick // K
-            _record(buf, nbuf, t, td, q, v, rec_dofs, bl, mf, nd, nb, nm)
+            record(buf, nbuf, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm)
             nbuf += 1
             if nbuf == REC_BLOCK:
                 rec[r0 : r0 + nbuf, :] = buf
@@ -450,11 +436,7 @@ def run_loop(
     nm = margs[0].size
     nd = rec_dofs.size
     nrec = n_ticks // K + 1
-    check_record_size(nrec, 2 + 2 * nd + 3 * nb + nm, "lower transmission.simulation."
-                      "record_rate_hz or the revolutions")
-    from geardyn.solve.explicit import record_array
-
-    rec = record_array((nrec, 2 + 2 * nd + 3 * nb + nm))
+    rec = record_buffer(nrec, nd, nb, nm)
     st = {"eta": phi.T @ (M @ np.asarray(q, float)), "deta": phi.T @ (M @ np.asarray(v, float)),
           "p0": np.zeros(n), "pprev": np.zeros(n), "q": np.array(q, float),
           "v": np.array(v, float), "fext": np.zeros(n), "diss": np.zeros(5),
@@ -525,8 +507,8 @@ def run_loop(
     done, status = drive_chunks(ctl, done, n_ticks, advance, state)
     if status == 0 and n_ticks % K == 0:
         sc = st["sc"]
-        _record(rec, n_ticks // K, sc[0], sc[2], st["q"], st["v"], setup.rec_dofs,
-                st["bl"], st["mf"], nd, nb, nm)
+        record(rec, n_ticks // K, sc[0], sc[2], st["q"], st["v"], st["bl"], st["mf"],
+               setup.rec_dofs, nd, nb, nm)
     if status == 0:
         rows = n_ticks // K + 1
     elif status == 1:  # the failed step's records were written
