@@ -191,28 +191,47 @@ def _sinc_table() -> np.ndarray:
 _SINC = _sinc_table()
 
 
-@numba.njit(cache=True, fastmath=False)
-def _sinc_interp(x: np.ndarray, pos: np.ndarray, table: np.ndarray, density: int,
-                 half: int) -> np.ndarray:  # pragma: no cover - numba
+def _polyphase(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel of :func:`_sinc_table` rearranged by phase: row ``m`` holds the 2H tap
+    weights h(j − m/density), j = 1 − H … H, of a position ``m/density`` past a sample, and the
+    second array their increments to row ``m + 1`` (linear interpolation between phases, the
+    same values as interpolating the table itself; contiguous rows let the tap loop
+    vectorise)."""
+    d, h = SINC_TABLE_DENSITY, SINC_HALF_WIDTH
+    taps = np.arange(1 - h, h + 1)
+    rows = table[np.abs(taps[None, :] * d - np.arange(d + 1)[:, None])]
+    return np.ascontiguousarray(rows[:-1]), np.ascontiguousarray(np.diff(rows, axis=0))
+
+
+_SINC_PHASES, _SINC_SLOPES = _polyphase(_SINC)
+
+
+@numba.njit(cache=True, fastmath={"reassoc", "contract"})
+def _sinc_interp(x: np.ndarray, pos: np.ndarray, phases: np.ndarray,
+                 slopes: np.ndarray, density: int) -> np.ndarray:  # pragma: no cover - numba
     """Band-limited interpolation of ``x`` at fractional sample positions ``pos`` with the
-    tabulated kernel ``table`` (edges: the first/last sample repeated)."""
+    polyphase kernel of :func:`_polyphase` (edges: the first/last sample repeated)."""
     n = x.size
+    taps = phases.shape[1]
+    half = taps // 2
     out = np.empty(pos.size)
     for k in range(pos.size):
         p = pos[k]
         i = int(np.floor(p))
-        frac = p - i
+        q = (p - i) * density
+        m = int(q)
+        r = q - m
+        if m >= density:  # p - i rounded up to 1
+            m, r = density - 1, 1.0
+        base = i + 1 - half
         acc = 0.0
-        for j in range(1 - half, half + 1):
-            idx = i + j
-            if idx < 0:
-                idx = 0
-            elif idx >= n:
-                idx = n - 1
-            q = abs(j - frac) * density
-            m = int(q)
-            r = q - m
-            acc += x[idx] * (table[m] + r * (table[m + 1] - table[m]))
+        if base >= 0 and base + taps <= n:
+            for j in range(taps):
+                acc += x[base + j] * (phases[m, j] + r * slopes[m, j])
+        else:
+            for j in range(taps):
+                idx = min(max(base + j, 0), n - 1)
+                acc += x[idx] * (phases[m, j] + r * slopes[m, j])
         out[k] = acc
     return out
 
@@ -221,8 +240,8 @@ def interpolate_bandlimited(x: np.ndarray, pos: np.ndarray) -> np.ndarray:
     """``x`` (uniformly sampled) at fractional sample positions ``pos`` by band-limited
     (windowed-sinc) interpolation (module docstring, step 3)."""
     return _sinc_interp(np.ascontiguousarray(x, dtype=float),
-                        np.ascontiguousarray(pos, dtype=float), _SINC, SINC_TABLE_DENSITY,
-                        SINC_HALF_WIDTH)
+                        np.ascontiguousarray(pos, dtype=float), _SINC_PHASES, _SINC_SLOPES,
+                        SINC_TABLE_DENSITY)
 
 
 def lowpass(x: np.ndarray, fs: float, cutoff: float, order: int = 8) -> np.ndarray:
