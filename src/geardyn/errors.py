@@ -29,6 +29,11 @@ class ConfigError(GeardynError, ValueError):
             msg = head + ":\n" + "\n".join(f"  - {p}" for p in self.problems)
         super().__init__(msg)
 
+    def __reduce__(self) -> tuple:
+        """Pickled as its problems and source (an error raised in a worker process reaches
+        the caller unchanged)."""
+        return (type(self), (self.problems, self.source))
+
 
 class KinematicsError(GeardynError, ValueError):
     """The mechanism graph cannot be analysed (e.g. a gear pair without a unique carrier)."""

@@ -192,6 +192,9 @@ def diagnose_cmd(
         help="reference-residual indicators RR_kurtosis/RR_rms (≥ 2 baselines)"),
     force: bool = typer.Option(False, "--force", help="replace an existing --out folder "
                                "(its earlier files are removed, so no stale report stays)"),
+    workers: int | None = typer.Option(
+        None, "--workers", "-n", help="processes simulating the healthy baseline runs "
+        "(default: one per core; the verdict is the same for any number)"),
 ) -> None:
     """Healthy baseline, thresholds and a verdict per component; writes verdict.json and a
     self-contained report.html."""
@@ -208,6 +211,9 @@ def diagnose_cmd(
     if baseline and record is None:
         raise InputError("--baseline needs --record: the healthy files are compared with a "
                          "record file (or give neither and both are simulated)")
+    from geardyn.diagnosis.parallel import check_workers
+
+    n_workers = check_workers(workers, "--workers")
     if simulate_baseline is not None and record is None:
         raise InputError("--simulate-baseline: applies with --record (without --record the "
                          "baseline is always simulated)")
@@ -260,7 +266,7 @@ def diagnose_cmd(
         else:
             verdict = diagnose(cfg, folder, baseline_seeds=parse_seeds(seeds),
                                record_seed=record_seed, t_end_s=t_end,
-                               revolutions=revolutions, **common)
+                               revolutions=revolutions, workers=n_workers, **common)
         verdict.provenance["config"] = config_id  # verdict.json names the config it judged
         verdict.write(folder)
     render_verdict(verdict, out)

@@ -38,7 +38,7 @@ seed, bit for bit, at the cost of the sensor model only.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -273,39 +273,53 @@ def member_configs(cfg: GeardynConfig, spec: DiagnosisSpec, seed: int | None = N
     return members
 
 
+def baseline_runs(healthy_cfg: GeardynConfig, spec: DiagnosisSpec) -> list[list[Member]]:
+    """The members of :func:`member_configs` grouped by dynamic run (run order): each group is
+    one simulation measured by its members' sensors (:func:`simulate_run`)."""
+    by_run: dict[int, list[Member]] = {}
+    for m in member_configs(healthy_cfg, spec):
+        by_run.setdefault(m.run, []).append(m)
+    return list(by_run.values())
+
+
+def simulate_run(group: Sequence[Member], run_length: dict[str, float | None],
+                 progress: Progress | None = None, runs: int = 1
+                 ) -> Iterator[tuple[Member, xr.Dataset]]:
+    """Simulate one dynamic run of the baseline ensemble (``group``: its members, one run of
+    :func:`baseline_runs`) once without sensors (:func:`geardyn.run.run_simulation` with
+    ``run_length``: ``t_end_s`` or ``revolutions``) and yield ``(member, measured result)``
+    for each member (:func:`geardyn.run.add_sensors` on a shallow copy: the dynamic arrays are
+    shared, not copied). The result's ``attrs`` carry ``ensemble_member`` (the label); its
+    ``status`` is the caller's to check. ``progress(message, fraction)`` reports the fraction
+    of ``runs`` runs done (this run being run ``group[0].run``)."""
+    from geardyn.run import add_sensors, run_simulation
+
+    first = group[0]
+    i = first.run
+    what = f"healthy baseline run {i + 1}/{runs} (seed {first.seed})"
+
+    def tick(frac: float) -> None:
+        if progress is not None:
+            progress(f"simulating {what}", min(1.0, (i + 0.95 * frac) / runs))
+
+    bare = first.config.model_copy(update={"sensors": []})
+    ds = run_simulation(bare, seed=first.seed, progress=tick, **run_length)
+    for m in group:
+        if progress is not None:
+            progress(f"measuring {m.label}", min(1.0, (i + 0.95 + 0.05 * m.measurement
+                                                       / len(group)) / runs))
+        meas = add_sensors(m.config, ds.copy(deep=False), m.seed)
+        meas.attrs["ensemble_member"] = m.label
+        yield m, meas
+
+
 def simulate_baseline(healthy_cfg: GeardynConfig, spec: DiagnosisSpec,
                       run_length: dict[str, float | None],
                       progress: Progress | None = None) -> Iterator[tuple[Member, xr.Dataset]]:
     """Simulate and measure the baseline ensemble of ``healthy_cfg``: yields ``(member,
-    measured result)`` in :func:`member_configs` order. Each dynamic run is simulated once
-    without sensors (:func:`geardyn.run.run_simulation` with ``run_length``: ``t_end_s`` or
-    ``revolutions``) and measured by each of its members' sensors
-    (:func:`geardyn.run.add_sensors` on a shallow copy: the dynamic arrays are shared, not
-    copied). The result's ``attrs`` carry ``ensemble_member`` (the label); its ``status`` is
-    the caller's to check. ``progress(message, fraction)`` reports the fraction of the runs
-    done."""
-    from geardyn.run import add_sensors, run_simulation
-
-    members = member_configs(healthy_cfg, spec)
-    runs = len(spec.baseline_seeds)
-    by_run: dict[int, list[Member]] = {}
-    for m in members:
-        by_run.setdefault(m.run, []).append(m)
-    for i, group in by_run.items():
-        first = group[0]
-        what = f"healthy baseline run {i + 1}/{runs} (seed {first.seed})"
-
-        def tick(frac: float, i: int = i, what: str = what) -> None:
-            if progress is not None:
-                progress(f"simulating {what}", min(1.0, (i + 0.95 * frac) / runs))
-
-        bare = first.config.model_copy(update={"sensors": []})
-        ds = run_simulation(bare, seed=first.seed, progress=tick, **run_length)
-        for m in group:
-            if progress is not None:
-                progress(f"measuring {m.label}", min(1.0, (i + 0.95 + 0.05 * m.measurement
-                                                           / len(group)) / runs))
-            meas = add_sensors(m.config, ds.copy(deep=False), m.seed)
-            meas.attrs["ensemble_member"] = m.label
-            yield m, meas
-        del ds
+    measured result)`` in :func:`member_configs` order, one dynamic run at a time
+    (:func:`simulate_run` over :func:`baseline_runs`). ``progress(message, fraction)``
+    reports the fraction of the runs done."""
+    groups = baseline_runs(healthy_cfg, spec)
+    for group in groups:
+        yield from simulate_run(group, run_length, progress, runs=len(groups))

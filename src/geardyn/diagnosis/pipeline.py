@@ -33,6 +33,7 @@ from geardyn.errors import ConfigError, InputError
 
 if TYPE_CHECKING:
     from geardyn.config.loader import GeardynConfig
+    from geardyn.diagnosis.ensemble import Member
     from geardyn.diagnosis.features import Features
     from geardyn.diagnosis.isolation import IsolationBlocks
     from geardyn.kinematics import CharacteristicFrequencies
@@ -223,6 +224,25 @@ def _blocks(ds: xr.Dataset, cfg: GeardynConfig, channel: str, opts: DiagnosisSpe
     return isolation_blocks(ds, cfg, channel, reference=opts.reference, skip_s=opts.skip_s)
 
 
+def _judged_run(group: Sequence[Member], cfg: GeardynConfig, opts: DiagnosisSpec,
+                run_length: dict[str, float | None], progress: Progress | None, runs: int
+                ) -> list[tuple[Member, Features, IsolationBlocks]]:
+    """One dynamic run of the baseline ensemble simulated, measured by each of its members
+    and reduced to its features and isolation blocks (a task of :func:`diagnose`)."""
+    from geardyn.diagnosis.ensemble import simulate_run
+
+    judged = []
+    for member, ds in simulate_run(group, run_length, progress, runs):
+        what = f"healthy baseline {member.label}"
+        _check_status(ds, what)
+        ch = _channel(ds, opts.channel, what)
+        blocks = _blocks(ds, cfg, ch, opts)
+        blocks.run = member.run
+        judged.append((member, _features(ds, cfg, ch, opts), blocks))
+        del ds
+    return judged
+
+
 def _run_signature(ds: xr.Dataset) -> tuple | None:
     """Model, time grid and initial shaft speeds of a simulated run (None for other files):
     runs with one signature follow one operating profile revolution by revolution."""
@@ -335,10 +355,15 @@ def diagnose(
     out_dir: str | Path,
     *,
     progress: Progress | None = None,
+    workers: int | None = 1,
     **overrides: Unpack[Overrides],
 ) -> Verdict:
     """Simulate the healthy baseline and the faulty record of ``cfg``, judge the record and
     write ``out_dir/verdict.json`` and ``out_dir/report.html``.
+
+    ``workers``: processes simulating the baseline runs (:mod:`geardyn.diagnosis.parallel`;
+    None: one per core; the record runs in this process meanwhile); the verdict is the same
+    for any number.
 
     Defaults from ``[diagnosis]`` (baseline seeds 0, 1, 2; record seed 100; k = 3; σ floor
     5 % of |mean|; 4 blocks; the first sensor channel). ``t_end_s`` [s] (planetary model) or
@@ -348,8 +373,11 @@ def diagnose(
     InputError when the output directory is not writable (before any simulation), a run does
     not end with status ``ok`` or the result has no sensor channel.
     """
+    from geardyn.diagnosis.ensemble import baseline_runs
+    from geardyn.diagnosis.parallel import check_workers, result, submit, worker_pool
     from geardyn.run import run_simulation
 
+    n_workers = check_workers(workers)
     opts = options_from(cfg, overrides, "diagnose")
     check_ready(cfg, opts)
     out = check_output_dir(out_dir)
@@ -357,36 +385,37 @@ def diagnose(
         raise ConfigError(f"diagnosis.record_seed: {opts.record_seed} is also a baseline seed "
                           f"{opts.baseline_seeds}; the record must be an independent run")
     run_length = _run_length(cfg, opts)
-    healthy = healthy_variant(cfg)
-    from geardyn.diagnosis.ensemble import simulate_baseline
-
-    runs = len(opts.baseline_seeds)
+    groups = baseline_runs(healthy_variant(cfg), opts)
+    runs = len(groups)
     n = runs + 1
-    feats = []
-    blocks: list[IsolationBlocks] = []
-    drawn: list[dict[str, Any]] = []
 
     def tick(message: str, f: float) -> None:
         _say(progress, message, f * runs / n)
 
-    for member, ds in simulate_baseline(healthy, opts, run_length, progress=tick):
-        what = f"healthy baseline {member.label}"
-        _check_status(ds, what)
-        ch = _channel(ds, opts.channel, what)
-        feats.append(_features(ds, cfg, ch, opts))
-        blocks.append(_blocks(ds, cfg, ch, opts))
-        blocks[-1].run = member.run
-        drawn.append({"label": member.label, "seed": member.seed, **member.values})
-        del ds
     what = f"record (configured faults), seed {opts.record_seed}"
-    rec_ds = run_simulation(cfg, seed=opts.record_seed, **run_length,
-                            progress=lambda f: _say(progress, f"simulating {what}",
-                                                    (n - 1 + 0.9 * f) / n))
-    _check_status(rec_ds, what)
-    ch = _channel(rec_ds, opts.channel, what)
-    _say(progress, f"indicators of the {what}", (n - 0.1) / n)
-    record = _features(rec_ds, cfg, ch, opts)
-    rec_blocks = _blocks(rec_ds, cfg, ch, opts)
+    with worker_pool(n_workers, runs) as pool:
+        # the baseline runs on the workers (none: here, in order) while the record runs here
+        tasks = [submit(pool, _judged_run, (g, cfg, opts, run_length,
+                                           tick if pool is None else None, runs))
+                 for g in groups]
+        judged = [result(t) for t in tasks] if pool is None else []
+        rec_ds = run_simulation(cfg, seed=opts.record_seed, **run_length,
+                                progress=lambda f: _say(progress, f"simulating {what}",
+                                                        (len(judged) + 0.9 * f) / n))
+        _check_status(rec_ds, what)
+        ch = _channel(rec_ds, opts.channel, what)
+        _say(progress, f"indicators of the {what}", (len(judged) + 0.95) / n)
+        record = _features(rec_ds, cfg, ch, opts)
+        rec_blocks = _blocks(rec_ds, cfg, ch, opts)
+        if pool is not None:
+            for t in tasks:
+                _say(progress, f"healthy baseline run {len(judged) + 1}/{runs} on "
+                     f"{min(n_workers, runs)} workers", (len(judged) + 1) / n)
+                judged.append(result(t))
+    members = [m for run in judged for m, _, _ in run]
+    feats = [f for run in judged for _, f, _ in run]
+    blocks = [b for run in judged for _, _, b in run]
+    drawn = [{"label": m.label, "seed": m.seed, **m.values} for m in members]
     _say(progress, "verdict and report", 0.99)
     info = ({"seeds": list(opts.baseline_seeds), "blocks": opts.blocks, **run_length,
              "skip_s": opts.skip_s, "members": drawn},

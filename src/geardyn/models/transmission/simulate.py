@@ -34,6 +34,11 @@ class SimulationDivergedError(GeardynError):
         super().__init__(msg)
         self.result = result
 
+    def __reduce__(self) -> tuple:
+        """Pickled with its partial result (raised in a worker process, it reaches the caller
+        whole)."""
+        return (type(self), (str(self), self.result))
+
 
 @dataclass
 class Prepared:
