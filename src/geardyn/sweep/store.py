@@ -176,8 +176,17 @@ def open_store(path: str | Path) -> xr.Dataset:
 
 
 def open_dataset(path: str | Path) -> xr.Dataset:
-    """A sweep data set (``geardyn sweep ... --out PATH``) as xarray, lazily loaded (dask);
-    ``status``, ``message``, string coordinates and ``verdict`` as Python strings."""
+    """A data set geardyn wrote, as xarray: a sweep data set (``geardyn sweep ... --out
+    PATH``, a Zarr folder) lazily loaded (dask), ``status``, ``message``, string coordinates
+    and ``verdict`` as Python strings; or a run result (``geardyn simulate ... --out
+    run.nc``, a NetCDF file in the layout of docs/results.md)."""
+    p = Path(path)
+    if p.is_file():
+        try:
+            return xr.open_dataset(p)
+        except (OSError, ValueError) as exc:
+            raise InputError(f"'{p}' is neither a sweep store (a folder) nor a readable "
+                             f"NetCDF result file: {exc}") from None
     ds = open_store(path)
     for name in list(ds.variables):
         v = ds[name]
