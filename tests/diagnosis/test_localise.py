@@ -20,7 +20,6 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from scipy.stats import f as f_dist
 from scipy.stats import t as student
 
 from geardyn.diagnosis.isolation import (
@@ -305,33 +304,66 @@ def test_shaft_yields_and_planet_set_and_named_planet():
     assert set(v.location) == {"st.p1", "st.p2", "st.p3"}
     assert any("yields to st.ring" in n for n in v.notes)
     v2 = _verdict({k: (c.kind, c.indicators["FM4"].value) for k, c in v.components.items()})
-    # planet-separated evidence names planet 2: its deviation power is 1.5× the others' at
-    # ν = 600, where F(600, 600) exceeds 1.5 with probability ~5e-7
-    planet_ev = {f"st.p{i}#planet": replace(_ev(f"st.p{i}", "cSDR_planet", 1.0, 3.0,
-                                                group=f"p{i}"), power=pw, dof=600.0)
-                 for i, pw in ((1, 2.0), (2, 3.0), (3, 1.9))}
+    # planet-separated evidence names planet 2: its per-order deviation is 1.5× the others'
+    rng = np.random.default_rng(7)
+    planet_ev = {f"st.p{i}#planet": _planet_ev(f"st.p{i}", scale, rng)
+                 for i, scale in ((1, 1.0), (2, 1.5), (3, 1.0))}
     _run(v1, {**ev, **planet_ev}, items)
     assert v1.location == ["st.p2"] and v1.localisation["level"] == "planet"
     assert v1.components["st.p1"].state == "healthy"
-    # powers within the F spread (ratio 1.1 at ν = 600: P(F > 1.1) ≈ 0.12): the set stays
-    close = {k: replace(e, power=2.2 if k == "st.p2#planet" else e.power)
-             for k, e in planet_ev.items()}
-    _run(v2, {**ev, **close}, items)
+    # every planet's deviation alike (a change the planet windows share): the set stays
+    same = {f"st.p{i}#planet": _planet_ev(f"st.p{i}", 1.0, rng) for i in (1, 2, 3)}
+    _run(v2, {**ev, **same}, items)
     assert v2.localisation["level"] == "planet set"
 
 
-def test_name_planet_is_the_bonferroni_f_test():
-    """Named iff every ratio's F(ν_a, ν_b) upper tail ≤ (1 − confidence)/(N − 1)."""
-    def ev(power, dof):
-        return replace(_ev("p", "cSDR_planet", 1.0, 1.0), power=power, dof=dof)
+K_ORDERS = 2000
 
-    for ratio in (1.15, 1.25, 1.4):
-        sf = float(f_dist.sf(ratio, 300.0, 300.0))
-        got, p = name_planet({"a": ev(ratio, 300.0), "b": ev(1.0, 300.0),
-                              "c": ev(0.9, 300.0)}, 0.95)
-        assert p == pytest.approx(sf, rel=1e-12)
-        assert (got == "a") == (sf <= 0.025)
-    assert name_planet({"a": ev(2.0, 300.0), "b": ev(float("nan"), 300.0)}, 0.95)[0] is None
+
+def _planet_ev(comp, scale, rng, offset=1.0, members=6):
+    """Planet-separated evidence with per-order deviations: noise power D·χ²₂/2 per order
+    (D varying over the orders like a spectrum), × ``offset`` for this planet's window in
+    every record (a fixed window-to-window difference), × ``scale`` in the record only."""
+    d = np.exp(np.linspace(0.0, -4.0, K_ORDERS))
+
+    def draw():
+        return d * offset * rng.exponential(1.0, K_ORDERS)
+
+    return replace(_ev(comp, "cSDR_planet", 1.0, 3.0, group=comp), deviation=scale * draw(),
+                   null_deviation=tuple(draw() for _ in range(members)),
+                   null_runs=tuple(range(members)))
+
+
+def test_name_planet_compares_per_order_log_ratios_with_the_healthy_spread():
+    """p of planet a against b: Student prediction p-value of the record's median over the
+    orders of log(d_a/d_b) against the same median of each healthy member (Hahn & Meeker
+    1991, ch. 4), computed here independently; named iff every p ≤ (1 − confidence)/N."""
+    from scipy.stats import t as student
+
+    rng = np.random.default_rng(3)
+    for scale, named in ((1.0, False), (1.4, True)):
+        ev = {c: _planet_ev(c, scale if c == "a" else 1.0, rng) for c in "abc"}
+        got, p = name_planet(ev, 0.95)
+        ps = []
+        for o in "bc":
+            med = float(np.median(np.log(ev["a"].deviation / ev[o].deviation)))
+            null = np.array([np.median(np.log(x / y)) for x, y in
+                             zip(ev["a"].null_deviation, ev[o].null_deviation, strict=True)])
+            sd = null.std(ddof=1) * np.sqrt(1.0 + 1.0 / null.size)
+            ps.append(float(student.sf((med - null.mean()) / sd, null.size - 1)))
+        assert (got == "a") is named
+        if named:
+            assert p == pytest.approx(max(ps), rel=1e-9) and p <= 0.05 / 3
+        else:
+            assert got is None and p > 0.05 / 3
+    # a planet whose window always shows 20 % more noise is not named: the healthy members
+    # carry the same offset
+    ev = {c: _planet_ev(c, 1.0, rng, offset=1.2 if c == "a" else 1.0) for c in "abc"}
+    assert name_planet(ev, 0.95)[0] is None
+    # no healthy spread to compare with: nothing named
+    ev = {c: replace(_planet_ev(c, 2.0 if c == "a" else 1.0, rng), null_deviation=())
+          for c in "abc"}
+    assert name_planet(ev, 0.95) == (None, pytest.approx(np.nan, nan_ok=True))
 
 
 def test_nothing_detected_is_healthy():

@@ -23,7 +23,10 @@ Measured (pytest -s prints them; P in 1e-6 (m/s²)², 2 rows per planet):
   for k = 1 / 2 / 3; healthy records (seeds 100, 101): largest/second ≤ 1.029.
 * 4 planets, 40 % crack, SNR 26 000–34 000: ratios 4.7 / 7.0 / 4.2 / 6.8 (the planet opposite
   the cracked one is second); healthy 1.005–1.021.
-The per-planet F statistic SDR is printed too but not asserted (with the fault far
+The verdict names the planet by the per-order comparison of
+:func:`geardyn.diagnosis.localise.name_planet` (median log ratio of two planets' per-order
+deviations against the same statistic of the healthy members). The per-planet F statistic SDR
+is printed too but not asserted (with the fault far
 above the noise every planet's rows carry a consistent change — the coupled response of the
 other planets to the cracked tooth's sun contact is synchronous in their own tooth frames —
 so SDR, a consistency measure, does not rank the planets; the deviation power does).
@@ -169,7 +172,7 @@ def _check(machine, n_planets):
               f"{faulty[-1]:.2f}), SDR {[round(sdr[c], 2) for c in names]}")
         assert best == names[k - 1], (k, power)
         got, p = machine.named(machine.rows(k, 100))
-        print(f"    verdict names {got} (F test p = {p:.2g})")
+        print(f"    verdict names {got} (p = {p:.2g})")
         named.append(got == names[k - 1])
         assert got in (None, names[k - 1])  # never the wrong planet
     for seed in (100, 101):
@@ -184,20 +187,18 @@ def test_crack_on_each_of_three_planets(three):
     assert max(null) < NULL_RATIO
     # planet 1's margin (1.10) is above the measured null spread, not above the F bound
     assert min(faulty) > max(null)
-    if sum(named) < 2:
-        # measured 2026-11-26 with band-limited angular resampling: F test p = 0.03 / 6.2e-6 /
-        # 0.18 against the Bonferroni level 0.025 (planet 2 named, 1 and 3 left to the planet
-        # set). With the former Lagrange interpolation (p = 0.011 / 7.8e-7 / 0.024) image
-        # orders above the channel's Nyquist added degrees of freedom to the deviation power.
-        pytest.xfail("issue 18 open: the deviation-power F test names 1 of 3 cracked planets")
+    # measured 2026-11-26 (per-order log-ratio test against the healthy members' spread,
+    # 3 baselines: t with 2 degrees of freedom): p = 0.0023 / 0.0064 / 0.0085 against the
+    # level 0.05/3; healthy records p = 0.47 / 0.18 (the F test of the deviation powers
+    # named 1 of 3: p = 0.03 / 6.2e-6 / 0.18)
+    assert all(named)
 
 
 @pytest.mark.slow
 def test_crack_on_each_of_four_planets(four):
     null, faulty, named = _check(four, 4)  # never a wrong planet, healthy: none named
     assert max(null) < NULL_RATIO < 2 * NULL_RATIO < min(faulty)
-    if not all(named):  # SNR 26 000–34 000
-        # measured 2026-11-26 (band-limited resampling): planets 2, 3, 4 named (p = 5.5e-7,
-        # 0.016, 4.3e-4); planet 1 not (p = 0.17: planet 3, opposite, carries the coupled
-        # response, power ratio 4.71 with few Satterthwaite degrees of freedom)
-        pytest.xfail("issue 18 open: the deviation-power F test names 3 of 4 cracked planets")
+    # measured 2026-11-26: p = 0.0020 / 0.0018 / 0.0022 / 0.0024 against 0.05/4; healthy
+    # records p = 0.16 / 0.44 (the F test named 3 of 4: planet 3, opposite planet 1,
+    # carries the coupled response)
+    assert all(named)

@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -432,6 +433,13 @@ class Evidence:
     runs of the null sample: :func:`geardyn.diagnosis.baseline.prediction_spread`)."""
     df: float = math.nan
     """Degrees of freedom of ``scale``."""
+    deviation: np.ndarray | None = field(default=None, repr=False, compare=False)
+    """Planet-separated evidence: the record's deviation power per order against the
+    baselines (:func:`deviation_orders`; NaN where an order carries no variance)."""
+    null_deviation: tuple[np.ndarray, ...] = field(default=(), repr=False, compare=False)
+    """The same for each baseline member against the others (leaving its run out)."""
+    null_runs: tuple[object, ...] = field(default=(), repr=False, compare=False)
+    """The dynamic run of each ``null_deviation`` member."""
 
     @property
     def passed(self) -> bool:
@@ -590,10 +598,23 @@ def deviation_power(record: OrderStats, baselines: Sequence[OrderStats]
     return float(np.sum(num) / np.sum(den)), float(2.0 * np.sum(den) ** 2 / np.sum(den**2))
 
 
-def _coherent_terms(record: OrderStats, baselines: Sequence[OrderStats]
+def deviation_orders(record: OrderStats, baselines: Sequence[OrderStats]) -> np.ndarray:
+    """The record's synchronous deviation power per order, ``|m_rec(o) − B(o)|²`` (the
+    numerators of :func:`coherent_sdr`), on the common order grid, NaN where an order carries
+    no variance (all NaN when none does)."""
+    terms = _coherent_terms(record, baselines, masked=False)
+    k = min([record.mean.size, *(b.mean.size for b in baselines)])
+    if terms is None:
+        return np.full(k, np.nan)
+    num, den = terms
+    return np.where(np.isfinite(den) & (den > 0), num, np.nan)
+
+
+def _coherent_terms(record: OrderStats, baselines: Sequence[OrderStats], masked: bool = True
                     ) -> tuple[np.ndarray, np.ndarray] | None:
     """Numerators |m_rec − B|² and random-effects denominators of :func:`coherent_sdr` over
-    the orders that carry variance (None when none does)."""
+    the orders that carry variance (None when none does); ``masked=False``: every order, the
+    denominator NaN where no variance."""
     if not baselines:
         raise InputError("baselines: the coherent SDR needs at least 1 healthy run")
     k = min([record.mean.size, *(b.mean.size for b in baselines)])
@@ -621,6 +642,8 @@ def _coherent_terms(record: OrderStats, baselines: Sequence[OrderStats]
     # spectra equal to ~1e-13 of their amplitude; a difference below 1e-10 of it is none
     num[num <= ROUND_OFF * (np.abs(record.mean[:k]) ** 2 + np.abs(b_mean) ** 2)] = 0.0
     den = between * (1.0 + 1.0 / big_m) + pooled * (1.0 / record.n + inv_n / big_m)
+    if not masked:
+        return num, np.where(ok, den, np.nan)
     return num[ok], den[ok]
 
 
@@ -688,13 +711,29 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
                                            runs=runs)
             if measure == "cSDR_planet":
                 power, dof = deviation_power(rec[key], ref)
-                cache[key] = replace(cache[key], power=power, dof=dof)
+                cache[key] = replace(cache[key], power=power, dof=dof,
+                                     **planet_deviation(rec[key], ref, runs))
         ev = cache[key]
         if measure == "cSDR_planet":
             out.setdefault(f"{comp}#planet", replace(ev, component=comp))
             continue
         out[comp] = replace(ev, component=comp)
     return out
+
+
+def planet_deviation(record: OrderStats, baselines: Sequence[OrderStats],
+                      runs: Sequence[object]) -> dict[str, Any]:
+    """Per-order deviation of a planet's rows (:func:`deviation_orders`) for the record and,
+    leaving each baseline member's run out, for each member: what
+    :func:`geardyn.diagnosis.localise.name_planet` compares between planets."""
+    tag = list(runs) if None not in runs and len(set(runs)) >= 2 else \
+        list(range(len(baselines)))
+    null = []
+    for i, b in enumerate(baselines):
+        others = [o for j, o in enumerate(baselines) if tag[j] != tag[i]]
+        null.append(deviation_orders(b, others) if others else np.full(1, np.nan))
+    return {"deviation": deviation_orders(record, baselines), "null_deviation": tuple(null),
+            "null_runs": tuple(tag)}
 
 
 def _without(st: OrderStats, mask: np.ndarray) -> OrderStats:

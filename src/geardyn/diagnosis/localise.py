@@ -30,8 +30,9 @@ the location is *uncertain* and the candidates are the most probable hypotheses 
 posteriors add up to the confidence. A shaft hypothesis yields to a toothed member turning
 with it whose evidence passes its threshold (the member is the more specific explanation of
 the same synchronous change). A planet set (the planets' common domain) is refined by the
-planet-separated evidence (McFadden 1994 windows): the same posterior among the planets names
-one when it reaches the confidence, else the location is the planet set.
+planet-separated evidence (McFadden 1991 windows): a planet is named when its rows' deviation
+exceeds every other planet's, order by order, beyond what the healthy members show between
+the same planets (:func:`name_planet`), else the location is the planet set.
 """
 
 from __future__ import annotations
@@ -39,6 +40,8 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any
+
+import numpy as np
 
 from geardyn.diagnosis.isolation import ROTATING, Evidence
 from geardyn.errors import InputError
@@ -223,10 +226,11 @@ def localise(verdict: Any, evidence: Mapping[str, Evidence], components: Any = N
                 p_best, p_value = name_planet(sub, confidence)
                 if p_best is not None:
                     notes.append(f"planet set localised to {p_best} by the planet-separated "
-                                 f"evidence (its deviation power exceeds every other "
-                                 f"planet's, F test p = {p_value:.2g}; McFadden 1991)")
+                                 f"evidence (its deviation exceeds every other planet's, "
+                                 f"order by order, beyond the healthy spread: p = "
+                                 f"{p_value:.2g}; McFadden 1991 windows)")
                     loc, level = [p_best], "planet"
-                    conf = conf * (1.0 - (len(sub) - 1) * p_value)
+                    conf = conf * (1.0 - len(sub) * p_value)
         candidates = [{"component": m, "posterior": post[g], "evidence": top_ev[m].measure,
                        "value": top_ev[m].value, "threshold": top_ev[m].threshold}
                       for g in (cand if not loc else [best]) for m in located(g)]
@@ -331,25 +335,68 @@ def combined_score(scores: Sequence[float]) -> float:
     return float(norm.isf(math.exp(log_adj)))
 
 
+def log_ratio_median(a: np.ndarray | None, b: np.ndarray | None) -> float:
+    """Median over the orders of ``log(a/b)`` (both finite and > 0; NaN when none is):
+    how much larger one planet's per-order deviation is than another's, robust to the few
+    strong orders that dominate a power sum."""
+    if a is None or b is None:
+        return math.nan
+    k = min(a.size, b.size)
+    x, y = np.asarray(a[:k], float), np.asarray(b[:k], float)
+    ok = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
+    return float(np.median(np.log(x[ok] / y[ok]))) if ok.any() else math.nan
+
+
+def _pair_p(a: Evidence, b: Evidence) -> float:
+    """One-sided p-value that planet ``a``'s deviation exceeds ``b``'s by more than the
+    healthy members show (:func:`name_planet`)."""
+    from scipy.stats import t as student
+
+    from geardyn.diagnosis.baseline import prediction_spread
+
+    value = log_ratio_median(a.deviation, b.deviation)
+    null = [log_ratio_median(x, y) for x, y in zip(a.null_deviation, b.null_deviation,
+                                                     strict=False)]
+    keep = [i for i, v in enumerate(null) if math.isfinite(v)]
+    if len(keep) < 2 or not math.isfinite(value):
+        return math.nan
+    runs = list(a.null_runs) if len(a.null_runs) == len(null) else None
+    mu, scale, df = prediction_spread(np.asarray([null[i] for i in keep]),
+                                      None if runs is None else [runs[i] for i in keep])
+    if not (math.isfinite(scale) and scale > 0):
+        return math.nan
+    return float(student.sf((value - mu) / scale, df))
+
+
 def name_planet(evidence: Mapping[str, Evidence], confidence: float
                 ) -> tuple[str | None, float]:
-    """The planet of a set whose planet-separated deviation power (``Evidence.power``, with
-    ``Evidence.dof`` degrees of freedom) exceeds every other planet's by more than chance:
-    with no change on planets a and b their power ratio is F(ν_a, ν_b) distributed, so the
-    planet with the largest power is named when each of its N − 1 ratios has an upper-tail
-    probability ≤ (1 − confidence)/(N − 1) (Bonferroni). Returns the planet (None when the
-    evidence does not separate the planets) and the largest of those probabilities."""
-    from scipy.stats import f as f_dist
-
+    """The planet of a set whose synchronous deviation exceeds every other planet's, order
+    by order, by more than the healthy baseline shows between the same planets. For planets
+    a and b the statistic is the median over the orders of ``log(d_a(o)/d_b(o))``, d the
+    per-order deviation power of the planet-separated rows against the baselines
+    (``Evidence.deviation``; McFadden 1991 windows): a crack on a planet raises its own rows'
+    deviation at most orders of its broadband signature, a healthy planet's rows differ from
+    another's only by noise and by a fixed window-to-window offset, which the baseline
+    members measure (the same statistic of each member against the others, leaving its run
+    out: ``Evidence.null_deviation``). The record's statistic against that null sample gives
+    a one-sided Student prediction p-value (runs as random effects:
+    :func:`geardyn.diagnosis.baseline.prediction_spread`; Hahn & Meeker 1991, ch. 4). A
+    planet is named when each of its N − 1 p-values is ≤ (1 − confidence)/N (a union bound
+    over the N planets that could be named). Returns the planet (None when the evidence does
+    not separate the planets) and the largest p-value of the best-separated planet."""
     usable = {p: e for p, e in evidence.items()
-              if math.isfinite(e.power) and e.power > 0 and math.isfinite(e.dof) and e.dof > 0}
+              if e.deviation is not None and len(e.null_deviation) >= 2}
     if len(usable) < 2 or len(usable) < len(evidence):
         return None, math.nan
-    best = max(usable, key=lambda p: usable[p].power)
-    b = usable[best]
-    p_value = max(float(f_dist.sf(b.power / e.power, b.dof, e.dof))
-                  for p, e in usable.items() if p != best)
-    return (best if p_value <= (1.0 - confidence) / (len(usable) - 1) else None), p_value
+    worst = {p: max((_pair_p(e, o) for q, o in usable.items() if q != p),
+                    key=lambda v: v if math.isfinite(v) else math.inf)
+             for p, e in usable.items()}
+    finite = {p: v for p, v in worst.items() if math.isfinite(v)}
+    if not finite:
+        return None, math.nan
+    best = min(finite, key=finite.get)
+    p_value = finite[best]
+    return (best if p_value <= (1.0 - confidence) / len(usable) else None), p_value
 
 
 def _one_planet_set(names: list[str], info: Mapping[str, Any], kind: Mapping[str, str]) -> bool:

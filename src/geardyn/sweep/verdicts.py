@@ -161,7 +161,7 @@ class _Isolation:
     def evidence(self, i: int, base: list[int], alpha: float, skip: set[str]
                  ) -> dict[str, Any]:
         """cSDR (own angle), cSDR_TE (a wheel's mesh; replaces its own-angle evidence) and
-        cSDR_planet evidence (with the deviation power that names a planet) of case ``i``
+        cSDR_planet evidence (with the per-order deviations that name a planet) of case ``i``
         against the baseline cases ``base``, as :func:`geardyn.diagnosis.isolation.
         sdr_evidence` on the stored statistics: the record's ambiguous orders left out of
         every record; components in ``skip`` (too short) get none. (Planet-separated
@@ -174,6 +174,7 @@ class _Isolation:
             coherent_sdr,
             deviation_power,
             evidence_from_null,
+            planet_deviation,
         )
 
         out: dict[str, Any] = {}
@@ -192,7 +193,9 @@ class _Isolation:
                 p = _members(label)[0]
                 if p not in skip:
                     power, dof = deviation_power(r, b)
-                    out[f"{p}#planet"] = replace(ev, component=p, power=power, dof=dof)
+                    out[f"{p}#planet"] = replace(  # each baseline case is its own run
+                        ev, component=p, power=power, dof=dof,
+                        **planet_deviation(r, b, list(range(len(b)))))
                 continue
             for c in _members(label):
                 if c not in skip:
