@@ -194,7 +194,7 @@ def diagnose_cmd(
                                "(its earlier files are removed, so no stale report stays)"),
     workers: int | None = typer.Option(
         None, "--workers", "-n", help="processes simulating the healthy baseline runs "
-        "(default: one per core; the verdict is the same for any number)"),
+        "without --record (default: one per core; the verdict is the same for any number)"),
 ) -> None:
     """Healthy baseline, thresholds and a verdict per component; writes verdict.json and a
     self-contained report.html."""
