@@ -110,52 +110,80 @@ def modal_basis(M: np.ndarray, K_lin: np.ndarray, C: np.ndarray
     return w2, phi, c, float(np.max(np.abs(off))) / scale if off.size else 0.0
 
 
-@njit(cache=True)
-def _ports_state(PhiT, nv, eta, deta, ports, q, v):  # pragma: no cover - compiled
+@njit(cache=True, fastmath={"reassoc", "contract"})
+def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compiled
     """q[ports] = Φ_P η; v[ports[:nv]] = Φ_P η̇ on the first ``nv`` ports (those whose
-    velocity the kernels read); ``PhiT`` = Φ_Pᵀ (n × p), axpy passes over its rows."""
+    velocity the kernels read): one pass over each row of ``Phi`` = Φ_P (p × n, contiguous
+    rows) per port pair, a dot product over the modes (vectorised: reassociated sums)."""
     p = ports.size
-    qp = np.zeros(p)
-    vp = np.zeros(nv)
     n = eta.size
-    j = 0
-    while j + 4 <= n:  # four modes per pass: a quarter of the loads and stores of qp, vp
-        e0, e1, e2, e3 = eta[j], eta[j + 1], eta[j + 2], eta[j + 3]
-        d0, d1, d2, d3 = deta[j], deta[j + 1], deta[j + 2], deta[j + 3]
-        for i in range(p):
-            qp[i] += (PhiT[j, i] * e0 + PhiT[j + 1, i] * e1) + (PhiT[j + 2, i] * e2
-                                                                 + PhiT[j + 3, i] * e3)
-        for i in range(nv):
-            vp[i] += (PhiT[j, i] * d0 + PhiT[j + 1, i] * d1) + (PhiT[j + 2, i] * d2
-                                                                 + PhiT[j + 3, i] * d3)
-        j += 4
-    while j < n:
-        for i in range(p):
-            qp[i] += PhiT[j, i] * eta[j]
-        for i in range(nv):
-            vp[i] += PhiT[j, i] * deta[j]
-        j += 1
-    for i in range(p):
-        q[ports[i]] = qp[i]
-    for i in range(nv):
-        v[ports[i]] = vp[i]
+    i = 0
+    while i + 2 <= nv:  # two ports per pass, position and speed from the same rows
+        a0 = 0.0
+        b0 = 0.0
+        a1 = 0.0
+        b1 = 0.0
+        for j in range(n):
+            e = eta[j]
+            d = deta[j]
+            a0 += Phi[i, j] * e
+            b0 += Phi[i, j] * d
+            a1 += Phi[i + 1, j] * e
+            b1 += Phi[i + 1, j] * d
+        q[ports[i]] = a0
+        v[ports[i]] = b0
+        q[ports[i + 1]] = a1
+        v[ports[i + 1]] = b1
+        i += 2
+    while i < nv:
+        a0 = 0.0
+        b0 = 0.0
+        for j in range(n):
+            a0 += Phi[i, j] * eta[j]
+            b0 += Phi[i, j] * deta[j]
+        q[ports[i]] = a0
+        v[ports[i]] = b0
+        i += 1
+    while i + 2 <= p:
+        a0 = 0.0
+        a1 = 0.0
+        for j in range(n):
+            e = eta[j]
+            a0 += Phi[i, j] * e
+            a1 += Phi[i + 1, j] * e
+        q[ports[i]] = a0
+        q[ports[i + 1]] = a1
+        i += 2
+    while i < p:
+        a0 = 0.0
+        for j in range(n):
+            a0 += Phi[i, j] * eta[j]
+        q[ports[i]] = a0
+        i += 1
 
 
 @njit(cache=True)
 def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi, pm
                  ):  # pragma: no cover - compiled
-    """f = F_ext + F_conn(q, v) + J q on the ports (J in CSC over the port positions);
+    """f = F_ext + F_conn(q, v) + J q on the ports (J in CSR over the port positions);
     ``pm`` = Φ_Pᵀ f_P (modal forces); diss: dissipation powers of the kernels (reset)."""
-    p = ports.size
-    for i in range(p):
+    for i in range(ports.size):
         f[ports[i]] = fext[ports[i]]
     diss[:] = 0.0
     bearing_forces(q, v, f, diss, *bargs, bl)
     mesh_forces(q, v, f, diss, *margs, mf)
-    for k in range(p):
-        qk = q[ports[k]]
+    _project(q, f, ports, jdat, jidx, jptr, Phi, pm)
+
+
+@njit(cache=True, fastmath={"contract"})
+def _project(q, f, ports, jdat, jidx, jptr, Phi, pm):  # pragma: no cover - compiled
+    """f_P += J_PP q_P (J in CSR: row k lists its columns), then pm = Φ_Pᵀ f_P."""
+    p = ports.size
+    for k in range(p):  # a gather per row: no chain of scattered updates
+        s = 0.0
         for e in range(jptr[k], jptr[k + 1]):
-            f[ports[jidx[e]]] += jdat[e] * qk
+            s += jdat[e] * q[ports[jidx[e]]]
+        f[ports[k]] += s
     pm[:] = 0.0
     i = 0
     while i + 4 <= p:  # four ports per pass
@@ -171,29 +199,33 @@ def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, j
         i += 1
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"reassoc", "contract"})
 def _record_dense(rec, ir, t, td, j, cd, eta, deta, pm, p0, p1, Phr, bl0, bl1, mf0, mf1, w,
-                  nd, nb, nm):  # pragma: no cover - compiled
+                  nd, nb, nm, ea, eb):  # pragma: no cover - compiled
     """Row ``ir`` at time t inside a step: the exact modal state at that time under the step's
     hold (coefficients ``cd[j]``) from the start state η, η̇ and the hold's values p₋₁, p₀, p₁,
     on the recorded DOFs (``Phr`` = their rows of Φ); bearing and mesh records interpolated
-    linearly (weight ``w`` of the end values) between the step's evaluations."""
+    linearly (weight ``w`` of the end values) between the step's evaluations. ``ea``, ``eb``:
+    work arrays (n) for the modal state."""
     rec[ir, 0] = t
     rec[ir, 1] = td
+    c = cd[j]
+    for k in range(eta.size):  # the modal state, then its projections (no chain in memory)
+        ea[k] = (c[0, 0, k] * eta[k] + c[0, 1, k] * deta[k] + c[0, 2, k] * pm[k]
+                 + c[0, 3, k] * p0[k] + c[0, 4, k] * p1[k])
+        eb[k] = (c[1, 0, k] * eta[k] + c[1, 1, k] * deta[k] + c[1, 2, k] * pm[k]
+                 + c[1, 3, k] * p0[k] + c[1, 4, k] * p1[k])
     for r in range(nd):
-        rec[ir, 2 + r] = 0.0
-        rec[ir, 2 + nd + r] = 0.0
-    for k in range(eta.size):
-        a = (cd[j, 0, 0, k] * eta[k] + cd[j, 0, 1, k] * deta[k] + cd[j, 0, 2, k] * pm[k]
-             + cd[j, 0, 3, k] * p0[k] + cd[j, 0, 4, k] * p1[k])
-        b = (cd[j, 1, 0, k] * eta[k] + cd[j, 1, 1, k] * deta[k] + cd[j, 1, 2, k] * pm[k]
-             + cd[j, 1, 3, k] * p0[k] + cd[j, 1, 4, k] * p1[k])
-        for r in range(nd):
-            rec[ir, 2 + r] += Phr[r, k] * a
-            rec[ir, 2 + nd + r] += Phr[r, k] * b
+        sa = 0.0
+        sb = 0.0
+        for k in range(eta.size):
+            sa += Phr[r, k] * ea[k]
+            sb += Phr[r, k] * eb[k]
+        rec[ir, 2 + r] = sa
+        rec[ir, 2 + nd + r] = sb
     for i in range(nb):
-        for c in range(3):
-            rec[ir, 2 + 2 * nd + c * nb + i] = (1.0 - w) * bl0[i, c] + w * bl1[i, c]
+        for c3 in range(3):
+            rec[ir, 2 + 2 * nd + c3 * nb + i] = (1.0 - w) * bl0[i, c3] + w * bl1[i, c3]
     for i in range(nm):
         rec[ir, 2 + 2 * nd + 3 * nb + i] = (1.0 - w) * mf0[i] + w * mf1[i]
 
@@ -219,7 +251,7 @@ def _damping_power(cdamp, deta):  # pragma: no cover - compiled
 @njit(cache=True)
 def run_chunk(
     eta, deta, p0, pprev, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K,
-    rec, cf, cd, cdamp, PhiT, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs,
+    rec, cf, cd, cdamp, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs,
     drive_dof, load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive,
     max_disp,
 ):  # pragma: no cover - compiled
@@ -244,6 +276,8 @@ def run_chunk(
     ph = np.zeros(n)
     e0 = np.zeros(n)
     de0 = np.zeros(n)
+    ea = np.zeros(n)
+    eb = np.zeros(n)
     pm0 = np.zeros(n)
     pp0 = np.zeros(n)
     bl0 = np.zeros(bl.shape)
@@ -293,7 +327,7 @@ def run_chunk(
                       + cf[0, 4, j] * pe)
             deta[j] = (cf[1, 0, j] * e + cf[1, 1, j] * d + cf[1, 2, j] * pm + cf[1, 3, j] * pj
                        + cf[1, 4, j] * pe)
-        _ports_state(PhiT, nv, eta, deta, ports, q, v)
+        _ports_state(Phi, nv, eta, deta, ports, q, v)
         t = (tick + m) * u
         wr = _interp(t, t_ref, w_ref)
         err = wr - ref_sign_speed(v, ref_dof, ref_sign)
@@ -317,7 +351,7 @@ def run_chunk(
                     w = jt / m
                     _record_dense(buf, nbuf, (tick + jt) * u, (1.0 - w) * td0 + w * td, jt - 1,
                                   cd, e0, de0, pm0, pp0, p1, Phr, bl0, bl, mf0, mf, w, nd, nb,
-                                  nm)
+                                  nm, ea, eb)
                     nbuf += 1
                     if nbuf == REC_BLOCK:
                         rec[r0 : r0 + nbuf, :] = buf
@@ -374,12 +408,11 @@ class ModalSetup:
         Jpp = J[np.ix_(self.ports, self.ports)]
         outside = np.setdiff1d(np.arange(n), self.ports)
         self.leak = float(np.max(np.abs(J[outside, :]), initial=0.0))
-        r, cc = np.nonzero(Jpp.T)  # CSC of Jpp: column k lists its rows
+        r, cc = np.nonzero(Jpp)  # CSR of Jpp: row k lists its columns
         ptr = np.zeros(self.ports.size + 1, np.int64)
         np.add.at(ptr, r + 1, 1)
-        self.J = (Jpp.T[r, cc].copy(), cc.astype(np.int64), np.cumsum(ptr).astype(np.int64))
+        self.J = (Jpp[r, cc].copy(), cc.astype(np.int64), np.cumsum(ptr).astype(np.int64))
         self.Phi = np.ascontiguousarray(phi[self.ports, :])
-        self.PhiT = np.ascontiguousarray(self.Phi.T)
         self.rec_dofs = rd
         self.Phr = np.ascontiguousarray(phi[rd, :])
         self.tick = float(tick_s)
@@ -497,7 +530,7 @@ def run_loop(
             tick, code = run_chunk(
                 st["eta"], st["deta"], st["p0"], st["pprev"], st["q"], st["v"], st["fext"],
                 st["diss"], st["bl"], st["mf"], st["energy"], st["sc"], tick, steps, u, m, K,
-                rec, cf, cd, setup.cdamp, setup.PhiT, setup.nv, setup.Phi, setup.Phr,
+                rec, cf, cd, setup.cdamp, setup.nv, setup.Phi, setup.Phr,
                 setup.rec_dofs, setup.ports, *setup.J, bargs, margs, drive_dof, load_dof,
                 ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp)
             if code != 0:
