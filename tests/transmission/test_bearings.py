@@ -15,6 +15,7 @@ from geardyn.bearings.hertz import (
     reduced_modulus,
     roller_race_stiffness,
 )
+from geardyn.models.transmission.assembly import pitch_rotation
 from geardyn.models.transmission.kernels import bearing_forces
 
 E, NU = 179e9, 0.3  # seed 002 Table 3
@@ -69,7 +70,8 @@ def _call(kind, k, a0, pd, x, y=0.0, z=0.0, theta=0.0, spall=(0.0, 0.0, 0.0), z_
         q, v, f, diss, np.array([0]), np.array([kind]), np.array([z_el]), np.array([k]),
         np.array([a0]), np.array([pd]), np.array([0.5 * (1 - D / DM)]), np.array([DM]),
         np.array([0.0]), np.array([0.0]), np.array([1e8]), np.array([0.0]),
-        np.array([spall[0]]), np.array([spall[1]]), np.array([spall[2]]), bl,
+        np.array([spall[0]]), np.array([spall[1]]), np.array([spall[2]]),
+        *pitch_rotation(np.array([z_el])), bl,
     )
     # action-reaction: the force on the housing is minus the force on the shaft
     assert bl[0, 1:] == pytest.approx(-f[:2], abs=1e-9 * (1 + np.abs(f[:2]).max()))

@@ -58,7 +58,15 @@ class Bearings:
         return (
             self.node, self.kind, self.z, self.k, self.a0, self.pd, self.cage, self.dm,
             self.crr, self.visc, self.kax, self.cax, self.sp_ang, self.sp_len, self.sp_depth,
+            *pitch_rotation(self.z),
         )
+
+
+def pitch_rotation(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(cos, sin) of the angular pitch 2π/Z of every bearing (the kernel's rolling-element
+    angle recurrence; libm values, as the kernel's own math.cos would give)."""
+    return (np.array([math.cos(2.0 * math.pi / int(n)) for n in z]),
+            np.array([math.sin(2.0 * math.pi / int(n)) for n in z]))
 
 
 @dataclass
@@ -98,6 +106,7 @@ class Meshes:
             self.na, self.nb, self.V, self.nsl, self.tlen, self.npc, self.za, self.s,
             self.xi0, self.ks, self.length, self.rsum, self.rhoa, self.rhob, self.npair,
             self.that, self.mu, self.csf, self.estar, self.gap, self.Vb, self.backlash,
+            np.empty(6 * self.ks.shape[2] + 10 * self.V.shape[1]),  # the kernel's scratch
         )
 
 
@@ -530,16 +539,19 @@ def _pair_tables(g, tb, corrections=None, extended: bool = True):  # noqa: ANN00
     return ks, length, uc, gap
 
 
-def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Bearing + mesh forces (N, N·m) on every DOF at state (q, v)."""
+def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray,
+                      args: tuple | None = None) -> np.ndarray:
+    """Bearing + mesh forces (N, N·m) on every DOF at state (q, v); ``args``: the kernels'
+    (bearing, mesh) arguments when the caller already has them (repeated calls)."""
     from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
 
+    ba, ma = args or (model.bearings.args(), model.meshes.args())
     f = np.zeros(model.ndof)
     diss = np.zeros(5)
     bl = np.zeros((model.bearings.node.size, 3))
     mf = np.zeros(model.meshes.na.size)
-    bearing_forces(q, v, f, diss, *model.bearings.args(), bl)
-    mesh_forces(q, v, f, diss, *model.meshes.args(), mf)
+    bearing_forces(q, v, f, diss, *ba, bl)
+    mesh_forces(q, v, f, diss, *ma, mf)
     return f
 
 
@@ -582,19 +594,20 @@ def _equilibrium_newton(model: TransmissionModel, load_torque: float, q0: np.nda
     kreg = np.zeros(n)
     kreg[np.arange(n) % 6 < 3] = 1e3
     Kr = model.K + np.diag(kreg)
+    args = (model.bearings.args(), model.meshes.args())
 
     def resid(qq: np.ndarray) -> np.ndarray:
-        return (Kr @ qq - connecting_forces(model, qq, v) - fext)[free]
+        return (Kr @ qq - connecting_forces(model, qq, v, args) - fext)[free]
 
     for _ in range(max_iter):
         r = resid(q)
         J = Kr[np.ix_(free, free)].copy()
         h = 1e-9
-        f0 = connecting_forces(model, q, v)
+        f0 = connecting_forces(model, q, v, args)
         for jj, j in enumerate(free):
             qp = q.copy()
             qp[j] += h
-            J[:, jj] -= (connecting_forces(model, qp, v) - f0)[free] / h
+            J[:, jj] -= (connecting_forces(model, qp, v, args) - f0)[free] / h
         dq = np.linalg.solve(J, -r)
         # limit the step (clearances make the first tangent nearly singular)
         trans = (free % 6) < 3

@@ -55,11 +55,12 @@ def _tanh(x):  # pragma: no cover - compiled
 def bearing_forces(
     q, v, f, diss,
     b_node, b_type, b_z, b_k, b_a0, b_pd, b_cage, b_dm, b_crr, b_visc, b_kax, b_cax,
-    b_sp_ang, b_sp_len, b_sp_depth, b_load,
+    b_sp_ang, b_sp_len, b_sp_depth, b_dc, b_ds, b_load,
 ):  # pragma: no cover - compiled
     """Add bearing forces to ``f``; diss[0] += viscous power, diss[1] += rolling-resistance
     power; ``b_load[i]`` receives Σ Q_j of bearing i and the force (x, y) the bearing
-    transmits to the housing [N] (``b_load`` of shape (n_bearings, 3))."""
+    transmits to the housing [N] (``b_load`` of shape (n_bearings, 3)). ``b_dc``, ``b_ds``:
+    cos and sin of the angular pitch 2π/Z (:func:`.assembly.pitch_rotation`)."""
     for i in range(b_node.size):
         n0 = 6 * b_node[i]
         ux = q[n0]
@@ -74,9 +75,9 @@ def bearing_forces(
         fz = 0.0
         qsum = 0.0
         # rolling-element angles by rotation: (c, s) of ψ_j+1 = rotation of (c, s) of ψ_j by
-        # 2π/Z (two trigonometric calls per bearing instead of two per element)
-        dc = math.cos(2.0 * math.pi / z)
-        ds = math.sin(2.0 * math.pi / z)
+        # 2π/Z (the cage's cos and sin per bearing instead of two calls per element)
+        dc = b_dc[i]
+        ds = b_ds[i]
         cn = math.cos(cage)
         sn = math.sin(cage)
         for j in range(z):
@@ -129,20 +130,30 @@ def bearing_forces(
 
 @njit(cache=True)
 def johnson_force(delta, ks, width, estar, rsum):  # pragma: no cover - compiled
-    """F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9).
+    """F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9)
+    (:func:`johnson_solve` from its default start)."""
+    return johnson_solve(delta, ks, width, estar, rsum, 0.0)[0]
+
+
+@njit(cache=True)
+def johnson_solve(delta, ks, width, estar, rsum, start):  # pragma: no cover - compiled
+    """(F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9), dδ/dF at
+    the last iterate).
 
     Newton on the concave increasing δ(F): after the first step the iterates approach the
-    root monotonically from below; the start uses ln(4π L E* ΔR/F) ≈ 13 (tooth loads).
-    Stops when a step moves F by < 1e-4 F: Newton's error after that step is
+    root monotonically from below, from any positive start (``start``, e.g. the solution of
+    a neighbouring slice extrapolated with its dδ/dF; ≤ 0: ln(4π L E* ΔR/F) ≈ 13, tooth
+    loads). Stops when a step moves F by < 1e-4 F: Newton's error after that step is
     |g''|/(2g') e² ≤ e²/(2F(ln(4π L E* ΔR/F) − 2)) < 5e-10 F (quadratic convergence; two
-    iterations for tooth loads instead of three with a 1e-9 step test)."""
+    iterations for tooth loads from the default start, one from a start within 1e-4)."""
     if delta <= 0.0:
-        return 0.0
+        return 0.0, 0.0
     c = math.pi * width * estar
     a = 4.0 * c * rsum
     iks = 1.0 / ks  # reciprocals once: divisions dominate the iteration's cost
     ic = 1.0 / c
-    f = delta / (iks + 12.0 * ic)
+    f = start if start > 0.0 else delta / (iks + 12.0 * ic)
+    dg = iks + 11.0 * ic
     for _ in range(40):
         lg = math.log(a / f)
         g = f * (iks + ic * (lg - 1.0)) - delta
@@ -151,9 +162,9 @@ def johnson_force(delta, ks, width, estar, rsum):  # pragma: no cover - compiled
         if fn <= 0.0:
             fn = 0.1 * f
         if abs(fn - f) < 1e-4 * f:
-            return fn
+            return fn, dg
         f = fn
-    return f
+    return f, dg
 
 
 @njit(cache=True)
@@ -161,11 +172,28 @@ def mesh_forces(
     q, v, f, diss,
     m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0,
     m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
-    m_force,
+    m_work, m_force,
 ):  # pragma: no cover - compiled
     """Add gear-mesh forces to ``f``; diss[2] += friction power, diss[3] += squeeze-film
     power; ``m_force[i]`` receives the total normal (transverse LOA) contact force of mesh i
-    (drive flank positive, back flank negative)."""
+    (drive flank positive, back flank negative). ``m_work``: scratch of at least
+    6 × (pair columns) + 10 × (slices) values (:meth:`.assembly.Meshes.args`).
+
+    The tooth pairs in contact and their table values at the mesh phase do not depend on the
+    slice: they are read once per mesh, then every slice solves eq 9 for each of them; the
+    slice forces and the friction forces are summed before they are added to ``f`` (one
+    update per DOF and mesh)."""
+    # rows of pmax per pair in contact: stiffness and length per slice, gap, ΔR, ρ_a, ρ_b;
+    # then per slice (drive flank, back flank): force, deflection, rate, Newton iterate (−F
+    # once converged), δ of the pair being solved
+    pmax = m_ks.shape[2]
+    smax = 2 * m_V.shape[1]
+    o = 6 * pmax
+    fsl = m_work[o : o + smax]
+    dsl = m_work[o + smax : o + 2 * smax]
+    ddsl = m_work[o + 2 * smax : o + 3 * smax]
+    fw = m_work[o + 3 * smax : o + 4 * smax]
+    dpw = m_work[o + 4 * smax : o + 5 * smax]
     for i in range(m_na.size):
         a0 = 6 * m_na[i]
         b0 = 6 * m_nb[i]
@@ -179,6 +207,32 @@ def mesh_forces(
         shift = 1 if i1 % int(m_npc[i]) == 0 else 0
         nsl = m_nsl[i]
         cs = m_csf[i] / nsl
+        npr = 0
+        for p in range(m_np[i]):
+            # column p is the pair that entered floor(ξ) − p mesh cycles ago; at a cycle
+            # boundary the next sample's columns are shifted by one. Interpolating the
+            # same pair (zero outside contact) keeps the force continuous in θ.
+            p1 = p + shift
+            k0 = m_ks[i, i0, p]
+            k1 = m_ks[i, i1, p1] if p1 < m_np[i] else 0.0
+            ks = (1.0 - fr) * k0 + fr * k1
+            if ks <= 0.0:
+                continue
+            if k0 > 0.0:
+                ii, pp = i0, p
+            else:
+                ii, pp = i1, p1
+            # no-load gap (separation distance off the path, profile corrections), seed
+            # 002 eqs 11-12; a pair missing from one sample keeps the other's gap
+            g0 = m_gap[i, i0, p] if k0 > 0.0 else m_gap[i, ii, pp]
+            g1 = m_gap[i, i1, p1] if k1 > 0.0 else m_gap[i, ii, pp]
+            m_work[npr] = ks / nsl
+            m_work[1 * pmax + npr] = (1.0 - fr) * g0 + fr * g1
+            m_work[2 * pmax + npr] = m_len[i, ii, pp] / nsl
+            m_work[3 * pmax + npr] = m_rsum[i, ii, pp]
+            m_work[4 * pmax + npr] = m_rhoa[i, ii, pp]
+            m_work[5 * pmax + npr] = m_rhob[i, ii, pp]
+            npr += 1
         ftot = 0.0
         tx = m_that[i, 0]
         ty = m_that[i, 1]
@@ -186,12 +240,18 @@ def mesh_forces(
         wa = v[a0 + 5]
         wb = v[b0 + 5]
         nfl = 2 if m_bl[i] >= 0.0 else 1
-        for ksl in range(nfl * nsl):
+        ffs = 0.0  # friction: Σ ff, Σ ff ρ_a, Σ ff ρ_b, power
+        ffa = 0.0
+        ffb = 0.0
+        pfr = 0.0
+        psq = 0.0
+        back_any = False
+        nk = nfl * nsl
+        for ksl in range(nk):  # slice deflections and their rates
             k = ksl % nsl
-            back = ksl >= nsl
             d = 0.0
             dd = 0.0
-            if back:
+            if ksl >= nsl:
                 for m in range(6):
                     d += m_Vb[i, k, m] * q[a0 + m] + m_Vb[i, k, 6 + m] * q[b0 + m]
                     dd += m_Vb[i, k, m] * v[a0 + m] + m_Vb[i, k, 6 + m] * v[b0 + m]
@@ -200,58 +260,88 @@ def mesh_forces(
                 for m in range(6):
                     d += m_V[i, k, m] * q[a0 + m] + m_V[i, k, 6 + m] * q[b0 + m]
                     dd += m_V[i, k, m] * v[a0 + m] + m_V[i, k, 6 + m] * v[b0 + m]
-            if d <= 0.0:
-                continue
-            fk = 0.0
-            for p in range(m_np[i]):
-                # column p is the pair that entered floor(ξ) − p mesh cycles ago; at a cycle
-                # boundary the next sample's columns are shifted by one. Interpolating the
-                # same pair (zero outside contact) keeps the force continuous in θ.
-                p1 = p + shift
-                k0 = m_ks[i, i0, p]
-                k1 = m_ks[i, i1, p1] if p1 < m_np[i] else 0.0
-                ks = (1.0 - fr) * k0 + fr * k1
-                if ks <= 0.0:
+            fsl[ksl] = 0.0
+            dsl[ksl] = d
+            ddsl[ksl] = dd
+        for r in range(npr):
+            # each pair across the slices, eq 9 by johnson_solve's Newton iterations taken
+            # for all slices in lockstep (independent chains of divisions and logarithms
+            # overlap; the same iterates, hence the same forces, as one slice at a time)
+            gap = m_work[pmax + r]
+            ra = m_work[4 * pmax + r]
+            rb = m_work[5 * pmax + r]
+            c = math.pi * m_work[2 * pmax + r] * m_estar[i]
+            a = 4.0 * c * m_work[3 * pmax + r]
+            iks = 1.0 / m_work[r]
+            ic = 1.0 / c
+            for ksl in range(nk):
+                dp = dsl[ksl] - gap
+                if dsl[ksl] <= 0.0 or dp <= 0.0:
+                    fw[ksl] = 0.0  # no contact
                     continue
-                if k0 > 0.0:
-                    ii, pp = i0, p
-                else:
-                    ii, pp = i1, p1
-                # no-load gap (separation distance off the path, profile corrections), seed
-                # 002 eqs 11-12; a pair missing from one sample keeps the other's gap
-                g0 = m_gap[i, i0, p] if k0 > 0.0 else m_gap[i, ii, pp]
-                g1 = m_gap[i, i1, p1] if k1 > 0.0 else m_gap[i, ii, pp]
-                dp = d - ((1.0 - fr) * g0 + fr * g1)
-                if dp <= 0.0:
+                fw[ksl] = dp / (iks + 12.0 * ic)
+                dpw[ksl] = dp
+            for it in range(2):
+                for ksl in range(nk):
+                    fo = fw[ksl]
+                    if fo <= 0.0:  # no contact, or converged (−F)
+                        continue
+                    dp = dpw[ksl]
+                    lg = math.log(a / fo)
+                    g = fo * (iks + ic * (lg - 1.0)) - dp
+                    dg = iks + (lg - 2.0) * ic
+                    fn = fo - g / dg
+                    if fn <= 0.0:
+                        fn = 0.1 * fo
+                    if abs(fn - fo) < 1e-4 * fo:
+                        fw[ksl] = -fn
+                    elif it == 1:  # not converged in two: the remaining iterations
+                        fw[ksl] = -johnson_solve(dp, m_work[r], m_work[2 * pmax + r],
+                                                 m_estar[i], m_work[3 * pmax + r], fn)[0]
+                    else:
+                        fw[ksl] = fn
+            for ksl in range(nk):
+                fp = -fw[ksl]
+                if fp <= 0.0:
                     continue
-                fp = johnson_force(dp, ks / nsl, m_len[i, ii, pp] / nsl, m_estar[i],
-                                   m_rsum[i, ii, pp])
-                fk += fp
-                if m_mu[i] > 0.0 and not back:
-                    ra = m_rhoa[i, ii, pp]
-                    rb = m_rhob[i, ii, pp]
+                fsl[ksl] += fp
+                if m_mu[i] > 0.0 and ksl < nsl:
                     vs = dut + wa * ra + wb * rb
                     ff = m_mu[i] * fp * _tanh(vs / V_REG)
-                    f[a0] -= ff * tx
-                    f[a0 + 1] -= ff * ty
-                    f[b0] += ff * tx
-                    f[b0 + 1] += ff * ty
-                    f[a0 + 5] -= ff * ra
-                    f[b0 + 5] -= ff * rb
-                    diss[2] += ff * vs
+                    ffs += ff
+                    ffa += ff * ra
+                    ffb += ff * rb
+                    pfr += ff * vs
+        for ksl in range(nk):
+            fk = fsl[ksl]
             if fk > 0.0:
+                dd = ddsl[ksl]
                 fv = cs * dd
-                diss[3] += fv * dd
-                if back:
+                psq += fv * dd
+                if ksl >= nsl:
                     ftot -= fk
-                    fk += fv
-                    for m in range(6):
-                        f[a0 + m] -= fk * m_Vb[i, k, m]
-                        f[b0 + m] -= fk * m_Vb[i, k, 6 + m]
+                    back_any = True
                 else:
                     ftot += fk
-                    fk += fv
-                    for m in range(6):
-                        f[a0 + m] -= fk * m_V[i, k, m]
-                        f[b0 + m] -= fk * m_V[i, k, 6 + m]
+                fsl[ksl] = fk + fv
+        diss[2] += pfr
+        diss[3] += psq
+        f[a0] -= ffs * tx
+        f[a0 + 1] -= ffs * ty
+        f[b0] += ffs * tx
+        f[b0 + 1] += ffs * ty
+        f[a0 + 5] -= ffa
+        f[b0 + 5] -= ffb
+        for m in range(6):  # Σ_k F_k V_k, one update per DOF
+            sa = 0.0
+            sb = 0.0
+            for k in range(nsl):
+                sa += fsl[k] * m_V[i, k, m]
+                sb += fsl[k] * m_V[i, k, 6 + m]
+            if back_any:
+                for k in range(nsl):
+                    sa += fsl[nsl + k] * m_Vb[i, k, m]
+                    sb += fsl[nsl + k] * m_Vb[i, k, 6 + m]
+            f[a0 + m] -= sa
+            f[b0 + m] -= sb
         m_force[i] = ftot

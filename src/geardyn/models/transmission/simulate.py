@@ -89,12 +89,13 @@ def connecting_jacobian(model: TransmissionModel, q: np.ndarray, h: float = 1e-9
     """−∂F_connecting/∂q by finite differences (tangent stiffness of bearings and meshes)."""
     n = model.ndof
     v = np.zeros(n)
-    f0 = connecting_forces(model, q, v)
+    args = (model.bearings.args(), model.meshes.args())
+    f0 = connecting_forces(model, q, v, args)
     J = np.zeros((n, n))
     for j in range(n):
         qp = q.copy()
         qp[j] += h
-        J[:, j] = -(connecting_forces(model, qp, v) - f0) / h
+        J[:, j] = -(connecting_forces(model, qp, v, args) - f0) / h
     return 0.5 * (J + J.T)
 
 
