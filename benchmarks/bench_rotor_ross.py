@@ -203,7 +203,8 @@ def run() -> list[dict]:
     cpu_x, _, hx = _seed002_300rev("explicit")
     rows.append({"code": "seed 002 NSC 200-900 rpm / 300 rev, default (consistent) mass",
                  "step_s": h, "cpu_s_per_sim_s": "",
-                 "note": f"{cpu:.1f} CPU s with '{scheme}' (target ≤ 8); explicit loop "
+                 "note": f"{cpu:.1f} CPU s with '{scheme}' (target ≤ 8: "
+                 f"{'met' if cpu <= 8.0 else 'not met'}); explicit loop "
                  f"(h = {hx:.3g} s) {cpu_x:.1f} CPU s in the same run: {cpu_x / cpu:.2f}× "
                  f"(load average {os.getloadavg()[0]:.1f})"})
     return rows

@@ -183,3 +183,70 @@ def test_modal_refused_where_it_does_not_apply(examples_dir) -> None:
     rotor["transmission"].pop("unbalance")
     with pytest.raises(ConfigError, match="support or dashpot damping"):
         simulate(parse_config(rotor))
+
+
+def test_modal_step_follows_the_speed_up_to_the_structural_frequency() -> None:
+    """``structural_frequency_hz``: the step follows the speed (one step per stiffness-table
+    point at the current mesh frequency) but never exceeds 1/(4 f_s), nor falls below the
+    step at the top speed; without it the step of the top speed holds for the whole run."""
+    from types import SimpleNamespace
+
+    from geardyn.models.transmission.simulate import modal_step
+
+    sim = SimpleNamespace(record_rate_hz=50_000.0, time_step_s=None, resolved_frequency_hz=None,
+                          structural_frequency_hz=None)
+    period = 1.0 / 1041.0  # top mesh frequency 1041 Hz, 64 table points: h = 15 µs
+
+    def ratio(t: float) -> float:  # 200 → 900 rpm over 1 s
+        return (200.0 + 700.0 * t) / 900.0
+
+    tick, per_rec, schedule, h = modal_step(sim, period, 30.0, 64.0, ratio)
+    assert (tick, per_rec) == pytest.approx((5e-6, 4)) and h == pytest.approx(15e-6)
+    assert schedule(0.0, 0.02) == schedule(0.98, 1.0) == 3
+    sim.structural_frequency_hz = 12_500.0  # steps of at most 20 µs
+    tick, per_rec, schedule, h = modal_step(sim, period, 30.0, 64.0, ratio)
+    assert h == pytest.approx(15e-6)
+    assert schedule(0.0, 0.02) == 4  # 200 rpm: the table allows 67 µs, f_s 20 µs
+    assert schedule(0.98, 1.0) == 3  # top speed: the table's 15 µs
+    sim.structural_frequency_hz = 1e6  # above the top-speed criterion: the top-speed step
+    assert modal_step(sim, period, 30.0, 64.0, ratio)[2](0.0, 0.02) == 3
+
+
+def test_seed002_run_up_with_speed_following_step(examples_dir) -> None:
+    """Seed 002 run-up 200 → 900 rpm over 3 revolutions with ``structural_frequency_hz`` =
+    12.5 kHz (steps of 20 µs at low speed, 15 µs at the top): fewer steps than the constant
+    default, energy balance closed (status ok), and against a fine explicit reference
+    (h = 2 µs) errors within those of the explicit loop at its stability step (rms of the worst
+    mesh force, worst bearing load, output speed fluctuation — measured: 0.27 %, 2.3 %, 0.9 %
+    against the explicit loop's 2.0 %, 2.8 %, 8.2 %; the constant 15 µs step: 0.27 %, 1.1 %,
+    0.6 %)."""
+    d = load_config(examples_dir / "seed002_transmission.toml").model_dump(exclude_none=True)
+    d["transmission"]["speed_law"].update(start_rpm=200.0, end_rpm=900.0, revolutions=3.0)
+    model = build_model(parse_config(d))
+    prep = prepare(model, "output")
+
+    def run(**sim):  # noqa: ANN003, ANN202
+        t = d["transmission"]
+        c = parse_config({**d, "transmission": {**t, "simulation": {**t["simulation"], **sim}}})
+        return simulate(c, prepared=prep, model=model)
+
+    runs = {"ref": run(integrator="explicit", time_step_s=2e-6), "explicit": run(
+        integrator="explicit"), "const": run(), "follow": run(structural_frequency_hz=12_500.0)}
+    assert runs["follow"].attrs["status"] == "ok"
+    assert runs["follow"].attrs["steps"] < 0.9 * runs["const"].attrs["steps"]
+    t = runs["ref"].time.values
+    sel = (t > 0.1 * t[-1]) & (t < 0.98 * t[-1])
+
+    def errors(x) -> np.ndarray:  # noqa: ANN001
+        out = []
+        for var in ("mesh_force", "bearing_load"):
+            a = runs["ref"][var].values[sel]
+            b = x[var].interp(time=t).values[sel]
+            out.append(np.max(np.sqrt(np.mean((a - b) ** 2, axis=0) / np.mean(a**2, axis=0))))
+        sp = runs["ref"].speed.sel(shaft="output").values[sel]
+        sb = x.speed.sel(shaft="output").interp(time=t).values[sel]
+        ac = sp - np.polyval(np.polyfit(t[sel], sp, 2), t[sel])
+        return np.array([*out, np.sqrt(np.mean((sp - sb) ** 2)) / np.std(ac)])
+
+    e = {k: errors(v) for k, v in runs.items() if k != "ref"}
+    assert np.all(e["follow"] <= e["explicit"]), e

@@ -296,6 +296,11 @@ class SimulationConfig(_Strict):
         "step = 1/(20 f); modal: 1/(4 f)); default: the mesh harmonic of order a quarter of "
         "the stiffness table's points per cycle at the top mesh frequency (modal: one step "
         "per table point), or 10 orders of the top shaft speed without meshes")
+    structural_frequency_hz: float | None = Field(
+        None, gt=0, description="modal, default step only: the step follows the speed (one "
+        "step per stiffness-table point at the current mesh frequency) but resolves this "
+        "structural frequency at every speed (step ≤ 1/(4 f)), never shorter than the step at "
+        "the top speed; default: the step at the top speed for the whole run")
     record: list[str] = Field(
         default_factory=list, description="extra outputs by name: a DOF "
         "('{shaft}.n{i}.{x,y,z,rx,ry,rz}'), a disc name (its node's x and y) or a support "

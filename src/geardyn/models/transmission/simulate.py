@@ -259,9 +259,13 @@ def simulate(
     elif scheme == "exponential":
         dt = t.simulation.time_step_s or 1.0 / t.simulation.record_rate_hz
     elif scheme == "modal":
+        def speed_ratio(time_s: float) -> float:  # reference speed law / top speed
+            w = w0 + (w1 - w0) * min(1.0, max(0.0, time_s / duration))
+            return abs(w) / w_top if w_top > 0 else 0.0
+
         tick, rec_ticks, schedule, dt = modal_step(
             t.simulation, mesh_period, w_top * max(ratios.values()) / (2 * math.pi),
-            float(model.meshes.npc.max(initial=0.0)))
+            float(model.meshes.npc.max(initial=0.0)), speed_ratio)
     else:
         dt = t.simulation.time_step_s or 0.8 * dt_limit
     if check_step:
@@ -434,34 +438,51 @@ MODAL_STEPS_PER_PERIOD = 4
 
 
 def modal_step(sim, mesh_period: float | None, shaft_hz: float,  # noqa: ANN001
-               table_points: float) -> tuple[float, int, Callable[[float, float], int], float]:
-    """(tick [s], ticks per record, schedule, step [s]) of the modal integrator. The step
-    resolves ``resolved_frequency_hz`` (default as :func:`choose_integrator`: at the top speed)
-    with :data:`MODAL_STEPS_PER_PERIOD` steps per period, for the whole run: a step following
-    the speed (the table criterion at the current mesh frequency) was less accurate than the
-    explicit loop at low speed (seed 002 at 200-250 rpm, 50-60 µs: mesh forces 0.81 % against
-    0.45 %, bearing loads 0.93 % against 0.32 %), as the port forces also carry the structure's
-    own vibration, whose frequencies do not fall with the speed. Records keep
+               table_points: float, speed_ratio: Callable[[float], float] | None = None,
+               ) -> tuple[float, int, Callable[[float, float], int], float]:
+    """(tick [s], ticks per record, schedule, step at the top speed [s]) of the modal
+    integrator. The step resolves ``resolved_frequency_hz`` (default as
+    :func:`choose_integrator`: at the top speed) with :data:`MODAL_STEPS_PER_PERIOD` steps per
+    period, for the whole run: a step following the speed alone (the table criterion at the
+    current mesh frequency) was less accurate than the explicit loop at low speed (Thibault
+    et al. 2024 at 200-250 rpm, 50-60 µs: mesh forces 0.81 % against 0.45 %, bearing loads
+    0.93 % against 0.32 %), as the port forces also carry the structure's own vibration,
+    whose frequencies do not fall with the speed. ``structural_frequency_hz`` given (and the
+    default resolved frequency): the step follows the speed — the table criterion at the
+    highest speed of each part of the run, ``speed_ratio(t)`` = speed / top speed — but never
+    exceeds 1/(4 f_s), so that f_s is resolved at every speed. Records keep
     ``record_rate_hz`` exactly: a tick divides the record interval, the step is a whole
     number (≥ 3) of ticks, at least 3/4 of the criterion's step. ``time_step_s`` given: that
     step, a record every round(1/(rate · step)) steps (as the other integrators).
-    ``schedule(t0, t1)``: the step in ticks for the part of the run between t0 and t1 [s]
-    (constant here)."""
+    ``schedule(t0, t1)``: the step in ticks for the part of the run between t0 and t1 [s]."""
     t_rec = 1.0 / sim.record_rate_hz
     if sim.time_step_s:
         return (sim.time_step_s, max(1, int(round(t_rec / sim.time_step_s))),
                 lambda _a, _b: 1, sim.time_step_s)
     f = sim.resolved_frequency_hz
+    follow = f is None and sim.structural_frequency_hz is not None and speed_ratio is not None
     if f is None:
         harmonics = max(1.0, MESH_HARMONICS_PER_POINT * table_points)
         f = max(harmonics / mesh_period if mesh_period else 0.0, SHAFT_ORDERS * shaft_hz)
     if not f > 0:
-        f = 0.5 / t_rec
+        f, follow = 0.5 / t_rec, False
     h = 1.0 / (MODAL_STEPS_PER_PERIOD * f)
     per_rec = max(1, math.ceil(3.0 * t_rec / h - 1e-9))
     tick = t_rec / per_rec
     m = max(1, int(math.floor(h / tick + 1e-9)))
-    return tick, per_rec, lambda _a, _b: m, m * tick
+    if not follow:
+        return tick, per_rec, lambda _a, _b: m, m * tick
+    ratio = speed_ratio  # narrowed for the closure
+    h_s = 1.0 / (MODAL_STEPS_PER_PERIOD * sim.structural_frequency_hz)
+    m_max = max(m, int(math.floor(h_s / tick + 1e-9)))
+
+    def schedule(t0: float, t1: float) -> int:
+        r = max(ratio(t0), ratio(t1))  # type: ignore[misc]
+        if not r > 0:
+            return m_max
+        return min(m_max, max(m, int(math.floor(h / r / tick + 1e-9))))
+
+    return tick, per_rec, schedule, m * tick
 
 
 def modal_reason(model: TransmissionModel, t, damping, gyro0,  # noqa: ANN001
