@@ -113,16 +113,15 @@ def modal_basis(M: np.ndarray, K_lin: np.ndarray, C: np.ndarray
 @njit(cache=True, fastmath={"reassoc", "contract"})
 def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compiled
     """q[ports] = Φ_P η; v[ports[:nv]] = Φ_P η̇ on the first ``nv`` ports (those whose
-    velocity the kernels read): one pass over each row of ``Phi`` = Φ_P (p × n, contiguous
-    rows) per port pair, a dot product over the modes (vectorised: reassociated sums)."""
+    velocity the kernels read): dot products of the rows of ``Phi`` = Φ_P (p × n, contiguous
+    rows) with the modal state, four ports per pass (one load of η, η̇ for four rows; the
+    reassociated sums vectorise)."""
     p = ports.size
     n = eta.size
     i = 0
-    while i + 2 <= nv:  # two ports per pass, position and speed from the same rows
-        a0 = 0.0
-        b0 = 0.0
-        a1 = 0.0
-        b1 = 0.0
+    while i + 4 <= nv:  # position and speed from the same rows
+        a0 = a1 = a2 = a3 = 0.0
+        b0 = b1 = b2 = b3 = 0.0
         for j in range(n):
             e = eta[j]
             d = deta[j]
@@ -130,11 +129,19 @@ def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compile
             b0 += Phi[i, j] * d
             a1 += Phi[i + 1, j] * e
             b1 += Phi[i + 1, j] * d
+            a2 += Phi[i + 2, j] * e
+            b2 += Phi[i + 2, j] * d
+            a3 += Phi[i + 3, j] * e
+            b3 += Phi[i + 3, j] * d
         q[ports[i]] = a0
-        v[ports[i]] = b0
         q[ports[i + 1]] = a1
+        q[ports[i + 2]] = a2
+        q[ports[i + 3]] = a3
+        v[ports[i]] = b0
         v[ports[i + 1]] = b1
-        i += 2
+        v[ports[i + 2]] = b2
+        v[ports[i + 3]] = b3
+        i += 4
     while i < nv:
         a0 = 0.0
         b0 = 0.0
@@ -144,16 +151,19 @@ def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compile
         q[ports[i]] = a0
         v[ports[i]] = b0
         i += 1
-    while i + 2 <= p:
-        a0 = 0.0
-        a1 = 0.0
+    while i + 4 <= p:
+        a0 = a1 = a2 = a3 = 0.0
         for j in range(n):
             e = eta[j]
             a0 += Phi[i, j] * e
             a1 += Phi[i + 1, j] * e
+            a2 += Phi[i + 2, j] * e
+            a3 += Phi[i + 3, j] * e
         q[ports[i]] = a0
         q[ports[i + 1]] = a1
-        i += 2
+        q[ports[i + 2]] = a2
+        q[ports[i + 3]] = a3
+        i += 4
     while i < p:
         a0 = 0.0
         for j in range(n):
