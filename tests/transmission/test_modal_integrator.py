@@ -250,3 +250,24 @@ def test_seed002_run_up_with_speed_following_step(examples_dir) -> None:
 
     e = {k: errors(v) for k, v in runs.items() if k != "ref"}
     assert np.all(e["follow"] <= e["explicit"]), e
+
+
+def test_resume_refused_with_another_step_schedule(examples_dir) -> None:
+    """A checkpoint of a run-up with the speed-following step (``structural_frequency_hz``)
+    does not resume the same run with the constant step: InputError naming the schedule."""
+    from geardyn.errors import InputError
+
+    d = load_config(examples_dir / "seed002_transmission.toml").model_dump(exclude_none=True)
+    d["transmission"]["speed_law"].update(start_rpm=200.0, end_rpm=900.0, revolutions=1.0)
+    t = d["transmission"]
+    follow = parse_config({**d, "transmission": {**t, "simulation": {
+        **t["simulation"], "structural_frequency_hz": 12_500.0}}})
+    saved: list[dict] = []
+
+    def progress(_f: float) -> None:
+        ctl.request_stop("test stop")
+
+    ctl = RunControl(progress=progress, checkpoint=lambda s: saved.append(dict(s)))
+    assert simulate(follow, control=ctl).attrs["status"] == "interrupted"
+    with pytest.raises(InputError, match="another run .*schedule"):
+        simulate(parse_config(d), control=RunControl(resume=saved[-1]))

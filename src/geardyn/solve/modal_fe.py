@@ -460,6 +460,12 @@ def port_dofs(model, extra: list[int]) -> tuple[np.ndarray, np.ndarray]:  # noqa
     return np.array(sorted(vel), np.int64), np.array(sorted(pos - vel), np.int64)
 
 
+def _schedule_key(schedule, n_ticks: int, seg: int, u: float) -> int:  # noqa: ANN001
+    """Σ (i + 1) m_i over the segments i of the run (m_i: the schedule's step in ticks)."""
+    return int(sum((i + 1) * max(1, int(schedule(s0 * u, min(s0 + seg, n_ticks) * u)))
+                   for i, s0 in enumerate(range(0, n_ticks, seg))))
+
+
 STATE = ("eta", "deta", "p0", "pprev", "q", "v", "fext", "diss", "bl", "mf", "energy", "sc")
 
 
@@ -493,7 +499,9 @@ def run_loop(
               # the model: its modal damping and frequencies (another mass or damping is
               # another run)
               "modal_damping": float(np.sum(setup.cdamp)), "modal_stiffness": float(
-                  np.sum(setup.w2))}
+                  np.sum(setup.w2)),
+              # the step schedule (a speed-following step with another bound is another run)
+              "schedule": _schedule_key(schedule, n_ticks, SEGMENT_RECORDS * K, u)}
 
     def recorded(ticks: int) -> int:  # rows once the ticks before ``ticks`` are done
         return (ticks + K - 1) // K
