@@ -14,7 +14,7 @@ whole file and a float64 copy of the channel). Sizes: ``GEARDYN_BENCH_MEASURED_N
 ``GEARDYN_BENCH_MEASURED_DIAGNOSE_MAX`` (default 3e7) are read only. The isolation blocks are
 the per-order statistics the pipeline uses (``isolation_blocks(rows=False)``).
 
-Measured (2026-11-26, shared 2-core machine, load average 6–7 from other jobs: CPU times
+Measured (2026-11-26, shared 2-core machine, load average 7 from other jobs: CPU times
 are the comparable figures), read + diagnose:
 
 ========  ============================  ===================  ==========  ============
@@ -22,9 +22,9 @@ samples   code                          diagnose wall / CPU  + read CPU  peak RS
 ========  ============================  ===================  ==========  ============
 3e6       session 3 (commit 4d83ea7)    130.0 s / 51.1 s                 3.00 GB
 3e6       main 02fe3ce (this machine)   10.6 s / 10.5 s                  2.53 GB
-3e6       streamed (this code)          11.7 s / 7.8 s       8.2 s       1.28 GB
+3e6       streamed (this code)          9.7 s / 6.5 s        6.7 s       1.28 GB
 3e7       main 02fe3ce (3e6–6e6 slope)  – / ≈ 150 s                      ≈ 14 GB
-3e7       streamed (this code)          30.1 s / 19.8 s      21.7 s      1.89 GB
+3e7       streamed (this code)          30.7 s / 19.8 s      21.6 s      1.89 GB
 ========  ============================  ===================  ==========  ============
 
 The issue's 3e7 target (≤ 30 s, ≤ 2 GB on one core) is met: the channel is kept as read and
