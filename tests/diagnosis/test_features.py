@@ -356,3 +356,28 @@ def test_reference_residuals_against_healthy_records(comps):
     assert len(rec.table) < len(rec2.table)  # new objects, the input is untouched
     with pytest.raises(InputError, match="at least 2 healthy records"):
         with_reference_residuals(base[:1], rec)
+
+
+def test_long_record_path_gives_the_same_gear_indicators(comps, monkeypatch):
+    """A reference grid longer than SEGMENT_MAX is streamed (stretch-by-stretch resampling,
+    revolution-batch statistics, segment-averaged envelope spectra): the TSA indicators are
+    those of the whole-record path (1e-5: float32 channel); the bearing line ratios rest on
+    segments of 24 revolutions averaged instead of one block of 49 and still point at the
+    outer race of the output ball bearing."""
+    import geardyn.diagnosis.features as features
+
+    x, t, th = transmission_signal(False, True, 5, duration=6)
+    whole = extract_features(x, t, th, comps, n_blocks=2)
+    monkeypatch.setattr(features, "SEGMENT_MAX", 32768)
+    long = extract_features(x.astype(np.float32), t, th, comps, n_blocks=2)
+    assert long.envelope_spectrum.attrs["segment_revolutions"] == 24
+    assert long.envelope_spectrum.attrs["segments"] == 4
+    m = whole.table.merge(long.table, on=["component", "kind", "indicator", "block"])
+    gear = m[m["kind"] != "bearing"]
+    assert len(gear) == len(whole.table[whole.table["kind"] != "bearing"])
+    # float32 storage of the channel: 6e-8 relative
+    np.testing.assert_allclose(gear["value_y"], gear["value_x"], rtol=1e-5)
+    b = long.summary()
+    b = b[b["indicator"] == "BPFO"].set_index("component")["value"]
+    assert b.idxmax() == "output ball"
+    assert long.order_spectrum is not None and long.samples_per_rev == whole.samples_per_rev

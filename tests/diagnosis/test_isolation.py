@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import geardyn
 from geardyn.diagnosis.isolation import (
     line_family_shares,
     revolution_blocks,
@@ -89,3 +90,28 @@ def test_line_family_share_ignores_a_baseline_line_that_falls_elsewhere():
                                                  {("b", "BPFO"): 4.6})}
     assert got["BPFO"].share == pytest.approx(1.0, abs=1e-12)
 
+
+
+def test_streamed_statistics_equal_the_rows(tmp_path):
+    """isolation_blocks(rows=False) accumulates each domain's per-order statistics revolution
+    batch by batch (no record-long rows): the same OrderStats as compact() of the rows (the
+    pump gearbox of benchmarks/bench_measured.py, float32 record with an analog tacho, 8 s)."""
+    from benchmarks.bench_measured import CONFIG, write_record
+
+    from geardyn.diagnosis.isolation import isolation_blocks
+    from geardyn.io import read_record
+
+    cfg_path = tmp_path / "pump.toml"
+    cfg_path.write_text(CONFIG)
+    cfg = geardyn.load_config(cfg_path)
+    write_record(tmp_path / "rec.npy", 400_000, 1.0, seed=3)
+    ds = read_record(tmp_path / "rec.npy", cfg=cfg)
+    rows = isolation_blocks(ds, cfg, "acc").compact()
+    stats = isolation_blocks(ds, cfg, "acc", rows=False)
+    assert stats.domains == {} and set(stats.stats) == set(rows.stats) and stats.top == rows.top
+    for k, a in rows.stats.items():
+        b = stats.stats[k]
+        assert a.n == b.n and a.mean.size == b.mean.size
+        np.testing.assert_allclose(b.mean, a.mean, rtol=0, atol=1e-12 * np.abs(a.mean).max())
+        np.testing.assert_allclose(b.var, a.var, rtol=0, atol=1e-12 * a.var.max())
+        assert np.array_equal(stats.ambiguous[k], rows.ambiguous[k])

@@ -36,11 +36,21 @@ per block of whole revolutions:
   the median level in ``±max(20/R, 0.2·order)`` (Randall & Antoni 2011, "Rolling element
   bearing diagnostics — a tutorial", MSSP 25).
 
-Resampling: the channel is first resampled to a uniform angle of the reference
-(:func:`geardyn.signal.resample_to_angle` for uniformly time-sampled channels, linear
-interpolation in angle for angle-sampled ones such as encoder IAS), then, per own-angle
-ratio, to an integer number of samples per own revolution; TSAs are rolled so that their
-index 0 is own angle 0 (the reference angle's origin times the ratio).
+Resampling: the channel is resampled to a uniform angle of the reference and, per own-angle
+ratio, to an integer number of samples per own revolution (a fast FFT length): a uniformly
+time-sampled channel directly from its time samples, stretch by stretch
+(:class:`geardyn.signal.stream.AngleGrid`: the values of
+:func:`geardyn.signal.resample_to_angle`), an angle-sampled one (encoder IAS) by linear
+interpolation in angle and then from the reference grid; TSAs are rolled so that their index 0
+is own angle 0 (the reference angle's origin times the ratio). The reference grid has
+:data:`GRID_FACTOR` (1.344) times the channel's samples per revolution at the slowest speed,
+rounded up to a power of two: the whole band the interpolation keeps (0.42·fs), no
+anti-aliasing filter needed. The TSAs and synchronous powers come from the mean and variance
+of the revolutions' spectra accumulated revolution batch by batch
+(:class:`geardyn.signal.stream.RevolutionStats`); a reference grid longer than
+:data:`SEGMENT_MAX` samples (a long record) is never held whole: its envelope spectra are
+averaged over segments (:func:`_long_reference_pass`) and its order spectrum and kurtogram
+taken on the central revolutions (:func:`_kurtogram_span`).
 Blocks hold at least :data:`MIN_REVS_PER_BLOCK` own revolutions: a component with fewer than
 ``4·n_blocks`` whole revolutions gets fewer blocks (one block of all its revolutions if it has
 fewer than 8); one with less than one revolution is left out (listed in ``Features.notes``).
@@ -67,20 +77,21 @@ from geardyn.signal._checks import array1d, positive_int
 from geardyn.signal.envelope import band_squared_envelope_spectrum, envelope_spectrum
 from geardyn.signal.indicators import (
     energy_ratio,
+    energy_ratio_from_power,
     fm0,
     fm4,
     kurtosis,
     na4,
     nb4,
     rms,
-    synchronous_energy_ratio,
-    synchronous_power,
+    synchronous_stats_from_moments,
     wheel_indicators,
 )
 from geardyn.signal.kurtogram import fast_kurtogram
 from geardyn.signal.resample import AngleSignal, resample_to_angle
 from geardyn.signal.spectra import order_spectrum
-from geardyn.signal.tsa import difference_signal, keep_orders, planetary_tsa, residual_signal, tsa
+from geardyn.signal.stream import CHUNK, AngleGrid, ArrayGrid, RevolutionStats, revolution_spectra
+from geardyn.signal.tsa import difference_signal, keep_orders, planetary_tsa, residual_signal
 
 COLUMNS = ["component", "kind", "indicator", "value", "block", "channel"]
 #: Sidebands per side used to localise a wheel on a shared shaft.
@@ -92,6 +103,14 @@ COMBINATION_ORDER = 12
 #: Most samples of the reference-angle signal the kurtogram is estimated on
 #: (:func:`_kurtogram_span`).
 KURTOGRAM_MAX_SAMPLES = 2**22
+#: Reference-grid samples per revolution per channel sample per revolution at the slowest
+#: speed: the anti-aliasing cut-off of the angular resampling, ``f_rot,min·spr/2.56``, then
+#: keeps 0.8 of it above the band the interpolation keeps (0.42·fs), so the grid loses none of
+#: the channel's band and needs no filter (2.56·0.42/0.8).
+GRID_FACTOR = 2.56 * 0.42 / 0.8
+#: Reference-grid samples above which the order spectrum, the squared-envelope spectra and the
+#: synchronous statistics are computed segment by segment (:func:`_long_reference_pass`).
+SEGMENT_MAX = 1 << 23
 #: Bearing line harmonics.
 BEARING_HARMONICS = (1, 2, 3)
 TWO_PI = 2.0 * np.pi
@@ -142,63 +161,61 @@ class Features:
 
 # ---------------------------------------------------------------------------- resampling
 def _uniform_time(time: np.ndarray) -> float | None:
-    """Sample rate [Hz] if ``time`` is uniform (relative jitter < 1e-6), else None."""
-    dt = np.diff(time)
-    mean = float(dt.mean())
-    if mean > 0 and float(np.max(np.abs(dt - mean))) <= 1e-6 * mean:
-        return 1.0 / mean
-    return None
+    """Sample rate [Hz] if ``time`` is uniform (relative jitter < 1e-6), else None (checked
+    stretch by stretch: no record-long difference array)."""
+    if time.size < 2:
+        return None
+    mean = float(time[-1] - time[0]) / (time.size - 1)
+    if not mean > 0:
+        return None
+    for a in range(0, time.size - 1, CHUNK):
+        dt = np.diff(time[a : a + CHUNK + 1])
+        if float(np.max(np.abs(dt - mean))) > 1e-6 * mean:
+            return None
+    return 1.0 / mean
 
 
-def _auto_samples_per_rev(n: int, revs: float, time_sampled: bool) -> int:
-    """Power of two at or above the channel's sample density (samples per reference
-    revolution), doubled for time-sampled channels so that the anti-aliasing filter of the
-    angular resampling (cut-off ``f_rot,min·spr/2.56``) leaves the channel's whole band;
-    within [64, 16384]."""
-    density = n / max(revs, 1e-12) * (2.0 if time_sampled else 1.0)
+def _diff_extremes(a: np.ndarray) -> tuple[float, float]:
+    """(min, max) of ``np.diff(a)``, stretch by stretch."""
+    lo, hi = math.inf, -math.inf
+    for i in range(0, a.size - 1, CHUNK):
+        d = np.diff(a[i : i + CHUNK + 1])
+        lo, hi = min(lo, float(d.min())), max(hi, float(d.max()))
+    return lo, hi
+
+
+def _auto_samples_per_rev(density: float) -> int:
+    """Power of two at or above ``density`` (grid samples per reference revolution: the
+    channel's samples per revolution for an angle-sampled channel, :data:`GRID_FACTOR` times
+    its samples per revolution at the slowest speed for a time-sampled one), within
+    [64, 16384]."""
     return int(min(16384, max(64, 2 ** math.ceil(math.log2(max(0.999 * density, 1.0))))))
 
 
+def _signal(name: str, value: Any, min_len: int) -> np.ndarray:
+    """A 1-D finite float signal; float32 is kept as it is (converted stretch by stretch where
+    it is used), other types become float64."""
+    a = np.asarray(value)
+    if a.dtype not in (np.float32, np.float64):
+        return array1d(name, value, min_len)
+    if a.ndim != 1:
+        raise InputError(f"{name}: signal must be 1-D, got shape {a.shape}")
+    if a.size < min_len:
+        raise InputError(f"{name}: signal needs at least {min_len} samples, got {a.size}")
+    for i in range(0, a.size, CHUNK):
+        if not np.all(np.isfinite(a[i : i + CHUNK])):
+            raise InputError(f"{name}: signal contains NaN or infinite values")
+    return a
+
+
 def _reference_signal(x: np.ndarray, time: np.ndarray, angle: np.ndarray, spr: int) -> AngleSignal:
-    fs = _uniform_time(time)
-    if fs is not None:
-        return resample_to_angle(x, fs, angle, samples_per_rev=spr, t0=float(time[0]))
+    """An angle-sampled channel interpolated linearly onto the reference grid."""
     dth = TWO_PI / spr
     k0, k1 = int(np.ceil(angle[0] / dth)), int(np.floor(angle[-1] / dth))
     if k1 - k0 < 4:
         raise InputError("ref_angle: the record spans fewer than 4 angular samples")
     grid = dth * np.arange(k0, k1 + 1)
     return AngleSignal(np.interp(grid, angle, x), spr, float(grid[0]), np.interp(grid, angle, time))
-
-
-def _phase_steps(sig: AngleSignal) -> int:
-    """Own-angle step index of the first sample (``angle0 / (2π/spr)``, an integer)."""
-    return int(round(sig.angle0 / (TWO_PI / sig.samples_per_rev)))
-
-
-def _whole(sig: AngleSignal) -> np.ndarray:
-    """The whole revolutions of an angle signal from its first sample (for spectra that need
-    no phase reference: order and envelope spectra)."""
-    spr = sig.samples_per_rev
-    return sig.x[: (sig.x.size // spr) * spr]
-
-
-def _own_signal(
-    ref: AngleSignal, abs_ratio: float, multiple: int = 2
-) -> tuple[np.ndarray, int, int]:
-    """Resample a reference-angle signal to ``abs_ratio·θ_ref`` with an integer number of
-    samples per own revolution (a multiple of ``multiple``, same angular density as the
-    reference). Returns (whole own revolutions from the first sample, samples per
-    revolution, own-angle step of the first sample: sample ``i`` is at own angle
-    ``(k0 + i)·2π/spr``, so a TSA rolled by ``k0`` starts at own angle 0)."""
-    spr_ref = ref.samples_per_rev
-    spr = max(multiple, int(math.ceil(spr_ref / abs_ratio / multiple)) * multiple)
-    spr = max(spr, 8 * multiple if multiple < 8 else multiple)
-    if abs(abs_ratio - 1.0) < 1e-12 and spr == spr_ref:
-        own = ref
-    else:
-        own = resample_to_angle(ref.x, float(spr_ref), abs_ratio * ref.angle, samples_per_rev=spr)
-    return _whole(own), spr, _phase_steps(own)
 
 
 # ---------------------------------------------------------------------------- indicators
@@ -346,23 +363,146 @@ def _tsa_array(t: np.ndarray, comp: Component, units: str, revs: int, how: str) 
     )
 
 
+def _fast_multiple(n: int, multiple: int) -> int:
+    """The smallest multiple of ``multiple`` at or above ``n`` (itself a multiple) whose FFT is
+    fast (no prime factor above 11: a per-revolution FFT of a large prime length runs several
+    times slower); ``n`` when ``multiple`` has such a factor itself (a ring of 83 teeth)."""
+    from scipy.fft import next_fast_len
+
+    rest = multiple
+    for p in (2, 3, 5, 7, 11):
+        while rest % p == 0:
+            rest //= p
+    if rest > 1:
+        return n
+    m = n
+    while next_fast_len(m, real=True) != m:
+        m += multiple
+    return m
+
+
+def _segment_revolutions(rpb: int, spr: int) -> int:
+    """Revolutions per segment of a block of ``rpb`` (:func:`_long_reference_pass`): the
+    fewest equal segments of at most :data:`SEGMENT_MAX` samples, shortened to a length whose
+    FFT is fast."""
+    from scipy.fft import next_fast_len
+
+    nseg = max(1, math.ceil(rpb * spr / SEGMENT_MAX))
+    r = max(1, rpb // nseg)
+    while r > 1 and next_fast_len(r * spr, real=True) != r * spr:
+        r -= 1
+    return r
+
+
+@dataclass
+class _DomainStats:
+    """Per-revolution spectrum statistics of one own-angle grid: revolutions from the grid's
+    first sample (own-angle step ``k0``), ``nb`` blocks of ``rpb`` revolutions and all ``n_rev``
+    whole revolutions."""
+
+    spr: int
+    k0: int
+    n_rev: int
+    nb: int
+    rpb: int
+    blocks: list[RevolutionStats]
+    whole: RevolutionStats
+
+
+def _revolution_stats(
+    grid: AngleGrid | ArrayGrid,
+    n_blocks: int,
+    segment: tuple[int, Callable[[int, np.ndarray], None]] | None = None,
+) -> _DomainStats:
+    """:class:`_DomainStats` of ``grid``, computed in revolution batches of at most
+    :data:`~geardyn.signal.stream.CHUNK` samples. ``segment = (revolutions, fn)``: each block's
+    first ``rpb // revolutions`` segments of that many revolutions are also passed to
+    ``fn(block, samples)``."""
+    spr = grid.samples_per_rev
+    n_rev = grid.size // spr
+    if n_rev < 1:
+        return _DomainStats(spr, grid.k0, 0, 0, 0, [], RevolutionStats())
+    nb, rpb = _blocks(n_rev, n_blocks)
+    per = max(1, CHUNK // spr)
+    blocks = [RevolutionStats() for _ in range(nb)]
+    whole = RevolutionStats()
+
+    def feed(acc: RevolutionStats, r0: int, r1: int, x: np.ndarray | None = None) -> None:
+        for a in range(r0, r1, per):
+            b = min(r1, a + per)
+            part = (grid.samples(a * spr, b * spr) if x is None
+                    else x[(a - r0) * spr : (b - r0) * spr])
+            acc.add_spectra(revolution_spectra(part, spr))
+
+    for b in range(nb):
+        start = b * rpb
+        if segment is not None:
+            seg_revs, fn = segment
+            nseg = rpb // seg_revs
+            for k in range(nseg):
+                r0 = start + k * seg_revs
+                x = grid.samples(r0 * spr, (r0 + seg_revs) * spr)
+                fn(b, x)
+                feed(blocks[b], r0, r0 + seg_revs, x)
+            start += nseg * seg_revs
+        feed(blocks[b], start, (b + 1) * rpb)
+        whole.merge(blocks[b])
+    rest = RevolutionStats()
+    feed(rest, nb * rpb, n_rev)
+    whole.merge(rest)
+    return _DomainStats(spr, grid.k0, n_rev, nb, rpb, blocks, whole)
+
+
 @dataclass
 class _Ctx:
-    ref: AngleSignal
+    ref: AngleGrid | ArrayGrid
     n_blocks: int
     channel: str
     units: str
     rows: list[dict[str, Any]]
     tsas: dict[str, xr.DataArray]
     notes: list[str]
-    cache: dict[tuple[float, int], tuple[np.ndarray, int, int]] = field(default_factory=dict)
+    source: tuple[np.ndarray, float, float, np.ndarray] | None = None
+    """(x, fs [Hz], t0 [s], reference angle [rad]) of a uniformly time-sampled channel: own
+    angles are resampled from it directly (else from the reference grid)."""
+    grids: dict[tuple[float, int], AngleGrid | ArrayGrid] = field(default_factory=dict)
+    stats_cache: dict[float, _DomainStats] = field(default_factory=dict)
     blocks: dict[str, list[np.ndarray]] = field(default_factory=dict)
 
+    def grid(self, abs_ratio: float, multiple: int = 2) -> AngleGrid | ArrayGrid:
+        """Grid of the own angle ``abs_ratio·θ_ref`` with an integer number of samples per own
+        revolution (a multiple of ``multiple``, same angular density as the reference)."""
+        spr_ref = self.ref.samples_per_rev
+        spr = max(multiple, int(math.ceil(spr_ref / abs_ratio / multiple)) * multiple)
+        spr = _fast_multiple(max(spr, 8 * multiple if multiple < 8 else multiple), multiple)
+        if abs(abs_ratio - 1.0) < 1e-12 and spr == spr_ref:
+            return self.ref
+        key = (round(abs_ratio, 12), spr)
+        if key not in self.grids:
+            if self.source is not None:
+                x, fs, t0, th = self.source
+                self.grids[key] = AngleGrid(x, fs, th, spr, t0=t0, ratio=abs_ratio)
+            else:
+                sig = self.ref.sig
+                self.grids[key] = ArrayGrid(
+                    resample_to_angle(sig.x, float(spr_ref), abs_ratio * sig.angle,
+                                      samples_per_rev=spr)
+                )
+        return self.grids[key]
+
     def own(self, abs_ratio: float, multiple: int = 2) -> tuple[np.ndarray, int, int]:
-        key = (round(abs_ratio, 12), multiple)
-        if key not in self.cache:
-            self.cache[key] = _own_signal(self.ref, abs_ratio, multiple)
-        return self.cache[key]
+        """(whole own revolutions from the first grid sample, samples per revolution,
+        own-angle step of the first sample)."""
+        g = self.grid(abs_ratio, multiple)
+        spr = g.samples_per_rev
+        n = (g.size // spr) * spr
+        return (g.samples(0, n) if n else np.empty(0)), spr, g.k0
+
+    def stats(self, abs_ratio: float) -> _DomainStats:
+        key = round(abs_ratio, 12)
+        if key not in self.stats_cache:
+            self.stats_cache[key] = _revolution_stats(self.grid(abs_ratio), self.n_blocks)
+        return self.stats_cache[key]
 
     def add(self, comp: Component, values: dict[str, float], block: int) -> None:
         for name, v in values.items():
@@ -383,21 +523,20 @@ def _own_angle_component(
 ) -> None:
     """TSA in the component's own angle, per block: gear indicators (shafts, sun/planet/ring
     without a ring sensor) or per-wheel sideband indicators (wheels)."""
-    xs, spr, k0 = ctx.own(comp.abs_ratio)
-    n_rev = xs.size // spr
+    st = ctx.stats(comp.abs_ratio)
+    spr, k0, n_rev = st.spr, st.k0, st.n_rev
     if n_rev < 1:
         ctx.notes.append(
             f"{comp.name}: less than one revolution of its own angle (|ratio| "
             f"{comp.abs_ratio:.4g}) in the record; left out"
         )
         return
-    nb, rpb = _blocks(n_rev, ctx.n_blocks)
     hist_res: list[np.ndarray] = []
     hist_tsa: list[np.ndarray] = []
-    for b in range(nb):
-        seg = xs[b * rpb * spr : (b + 1) * rpb * spr]
+    for b in range(st.nb):
+        seg = st.blocks[b]
         # wheels: plain TSA (their sideband ratios would be unstable near 0 after shrinkage)
-        t = np.roll(tsa(seg, spr) if wheel_mode else _synchronous_tsa(seg, spr), k0)
+        t = np.roll(seg.tsa(spr) if wheel_mode else _synchronous_tsa(seg, spr), k0)
         if wheel_mode:
             teeth = int(comp.teeth or comp.mesh_orders[0])
             vals = _safe_dict(
@@ -417,29 +556,27 @@ def _own_angle_component(
         ctx.blocks.setdefault(comp.name, []).append(t)
         ctx.add(comp, vals, b)
     if comp.name not in ctx.tsas:
-        whole = np.roll(tsa(xs[: n_rev * spr], spr), k0)
+        whole = np.roll(st.whole.tsa(spr), k0)
         ctx.tsas[comp.name] = _tsa_array(whole, comp, ctx.units, n_rev, "own-angle TSA")
 
 
-def _synchronous_tsa(seg: np.ndarray, spr: int) -> np.ndarray:
-    """TSA of whole revolutions with each order shrunk by its synchronous fraction
-    ``max(0, 1 − V/(N|X̄|²))`` (Wiener weighting with the revolution-to-revolution variance
-    ``V`` of Braun 1975): orders whose level in the average is mostly non-synchronous leakage
-    (another component's fault or meshing over a few revolutions) are attenuated, synchronous
-    ones kept."""
-    n = seg.size // spr
+def _synchronous_tsa(seg: RevolutionStats, spr: int) -> np.ndarray:
+    """TSA of whole revolutions (their spectra's statistics ``seg``) with each order shrunk by
+    its synchronous fraction ``max(0, 1 − V/(N|X̄|²))`` (Wiener weighting with the
+    revolution-to-revolution variance ``V`` of Braun 1975): orders whose level in the average
+    is mostly non-synchronous leakage (another component's fault or meshing over a few
+    revolutions) are attenuated, synchronous ones kept."""
+    n = seg.n
     if n < 2:
-        return tsa(seg, spr)
-    spec = np.fft.rfft(seg[: n * spr].reshape(n, spr), axis=1)
-    mean = spec.mean(axis=0)
-    var = np.sum(np.abs(spec - mean) ** 2, axis=0) / (n - 1)
+        return seg.tsa(spr)
+    mean, var = seg.mean, seg.var
     p = np.abs(mean) ** 2
     gain = np.where(p > 0, np.clip(1.0 - var / (n * np.where(p > 0, p, 1.0)), 0.0, 1.0), 0.0)
     return np.fft.irfft(mean * gain, spr)
 
 
 def _synchronous_energies(
-    seg: np.ndarray,
+    seg: RevolutionStats,
     spr: int,
     teeth: tuple[int, ...],
     regular: frozenset[int],
@@ -449,14 +586,14 @@ def _synchronous_energies(
     :func:`geardyn.signal.indicators.synchronous_energy_ratio`): with few revolutions per
     block the TSA keeps ``1/N`` of the non-synchronous power (other components' faults,
     noise), which would otherwise raise ER and the difference RMS of every component."""
-    if seg.size < 2 * spr:
+    if seg.n < 2:
         return {}
+    p, se = synchronous_stats_from_moments(seg.mean, seg.var, seg.n, spr)
     if not teeth and not regular:
-        p = synchronous_power(seg, spr, clip=False)
         return {"diff_rms": float(np.sqrt(0.5 * max(float(p[2:].sum()), 0.0)))}
     try:
-        er, drms = synchronous_energy_ratio(
-            seg, spr, teeth, sorted(regular), regular_sidebands=regular_sidebands
+        er, drms = energy_ratio_from_power(
+            p, se, spr, teeth, sorted(regular), regular_sidebands=regular_sidebands
         )
     except InputError:
         return {}
@@ -603,21 +740,44 @@ def _ses_function(band: tuple[float, float] | None) -> Callable[..., xr.DataArra
     return envelope_spectrum if band is None else band_squared_envelope_spectrum
 
 
+def _whole(ref: AngleGrid | ArrayGrid) -> np.ndarray:
+    """The whole revolutions of a grid held whole (:class:`ArrayGrid`) from its first sample
+    (for spectra that need no phase reference: order and envelope spectra)."""
+    spr = ref.samples_per_rev
+    return ref.samples(0, (ref.size // spr) * spr) if ref.size >= spr else ref.samples(0, 0)
+
+
+def _line_ratios(ctx: _Ctx, comps: Components, values: np.ndarray, res: float, b: int) -> None:
+    for comp in comps.bearings:
+        vals = {}
+        for line in BEARING_LINES:
+            o = float(comp.fault_orders.get(line, math.nan))
+            if not np.isfinite(o) or o <= 0:
+                continue
+            ratios = [_line_ratio(values, res, h * o) for h in BEARING_HARMONICS]
+            ratios = [r for r in ratios if np.isfinite(r)]
+            vals[line] = float(np.mean(ratios)) if ratios else math.nan
+        ctx.add(comp, vals, b)
+
+
+def _envelope_attrs(whole: xr.DataArray, units: str) -> xr.DataArray:
+    whole = whole.rename(frequency="order")
+    whole["order"].attrs["units"] = "events/rev"
+    whole.attrs["units"] = f"({units})^2" if units else ""
+    return whole
+
+
 def _bearing_features(
     ctx: _Ctx, comps: Components, band: tuple[float, float] | None
 ) -> xr.DataArray | None:
-    bearings = comps.bearings
     x = _whole(ctx.ref)
     spr = ctx.ref.samples_per_rev
     n_rev = x.size // spr
     if n_rev < 1:
         return None
     ses = _ses_function(band)
-    whole = ses(x, float(spr), band)
-    whole = whole.rename(frequency="order")
-    whole["order"].attrs["units"] = "events/rev"
-    whole.attrs["units"] = f"({ctx.units})^2" if ctx.units else ""
-    if not bearings:
+    whole = _envelope_attrs(ses(x, float(spr), band), ctx.units)
+    if not comps.bearings:
         return whole
     nb, rpb = _blocks(n_rev, ctx.n_blocks)
     for b in range(nb):
@@ -626,21 +786,56 @@ def _bearing_features(
             values = ses(seg, float(spr), band).values
         except InputError:
             continue
-        res = 1.0 / rpb
-        for comp in bearings:
-            vals = {}
-            for line in BEARING_LINES:
-                o = float(comp.fault_orders.get(line, math.nan))
-                if not np.isfinite(o) or o <= 0:
-                    continue
-                ratios = [_line_ratio(values, res, h * o) for h in BEARING_HARMONICS]
-                ratios = [r for r in ratios if np.isfinite(r)]
-                vals[line] = float(np.mean(ratios)) if ratios else math.nan
-            ctx.add(comp, vals, b)
+        _line_ratios(ctx, comps, values, 1.0 / rpb, b)
     return whole
 
 
-def _kurtogram_span(whole: np.ndarray, spr: int) -> np.ndarray:
+def _long_reference_pass(
+    ctx: _Ctx, comps: Components, band: tuple[float, float] | None
+) -> xr.DataArray | None:
+    """Squared-envelope spectra and the reference angle's synchronous statistics of a
+    reference grid longer than :data:`SEGMENT_MAX` samples, in one pass over it. Each block is
+    cut into segments of equal whole revolutions (the fewest with at most :data:`SEGMENT_MAX`
+    samples each, shortened to a fast FFT length); a block's squared-envelope spectrum is the
+    RMS over its segments' (Welch 1967 averaging: resolution ``1/segment revolutions``
+    instead of ``1/block revolutions``; the peak-over-median line ratios then rest on averaged
+    bins), the record's the RMS over all segments'. Fills ``ctx.stats_cache`` for the
+    reference angle (ratio 1)."""
+    ref = ctx.ref
+    spr = ref.samples_per_rev
+    n_rev = ref.size // spr
+    nb, rpb = _blocks(n_rev, ctx.n_blocks)
+    seg_revs = _segment_revolutions(rpb, spr)
+    ses = _ses_function(band)
+    acc: dict[str, Any] = {"ses": None, "n": 0, "blocks": [[None, 0] for _ in range(nb)]}
+
+    def segment(b: int, x: np.ndarray) -> None:
+        try:
+            e = ses(x, float(spr), band)
+        except InputError:
+            return
+        v = e.values**2
+        acc["ses"] = (e, v) if acc["ses"] is None else (acc["ses"][0], acc["ses"][1] + v)
+        acc["n"] += 1
+        blk = acc["blocks"][b]
+        blk[0] = v if blk[0] is None else blk[0] + v
+        blk[1] += 1
+
+    st = _revolution_stats(ref, ctx.n_blocks, (seg_revs, segment))
+    if ctx.grid(1.0) is ref:
+        ctx.stats_cache[round(1.0, 12)] = st
+    env = None
+    if acc["ses"] is not None:
+        e, v = acc["ses"]
+        env = _envelope_attrs(e.copy(data=np.sqrt(v / acc["n"])), ctx.units)
+        env.attrs.update({"segments": acc["n"], "segment_revolutions": seg_revs})
+    for b, (v, n) in enumerate(acc["blocks"]):
+        if v is not None and comps.bearings:
+            _line_ratios(ctx, comps, np.sqrt(v / n), 1.0 / seg_revs, b)
+    return env
+
+
+def _kurtogram_span(ref: AngleGrid | ArrayGrid, spr: int) -> np.ndarray:
     """The whole revolutions at the centre of the record on which the kurtogram is estimated:
     all of them up to :data:`KURTOGRAM_MAX_SAMPLES` samples, else the central
     ``KURTOGRAM_MAX_SAMPLES // spr`` revolutions. The kurtogram only chooses the envelope band
@@ -648,30 +843,35 @@ def _kurtogram_span(whole: np.ndarray, spr: int) -> np.ndarray:
     ``N·2^−k`` samples (standard deviation ≈ ``2/√(N·2^−k)`` for Gaussian noise, Antoni
     2007), so 2²² samples keep it below 0.09 on every band at least one order wide at 16384
     samples/rev (level ≤ 13) and give Antoni's 128 samples per band at level 15."""
-    n_rev = whole.size // spr
+    n_rev = ref.size // spr
     keep = max(1, KURTOGRAM_MAX_SAMPLES // spr)
     if n_rev <= keep:
-        return whole
+        return _whole(ref)
     start = (n_rev - keep) // 2
-    return whole[start * spr : (start + keep) * spr]
+    return ref.samples(start * spr, (start + keep) * spr)
 
 
 def _spectrum_and_band(
-    ref: AngleSignal,
+    ref: AngleGrid | ArrayGrid,
     units: str,
     envelope_band: tuple[float, float] | None,
     notes: list[str],
 ) -> tuple[xr.DataArray | None, xr.DataArray | None, tuple[float, float] | None]:
-    """Order spectrum of the reference-angle signal, kurtogram and envelope band (orders):
+    """Order spectrum of the reference-angle signal (of the central revolutions of
+    :func:`_kurtogram_span` for a grid streamed segment by segment, :func:`_long_reference_pass`:
+    a display of a steady record, resolution ``1/revolutions`` of that span), kurtogram and
+    envelope band (orders):
     ``envelope_band`` if given, else the band of maximum spectral kurtosis below the
     anti-aliasing limit of the resampling (Antoni 2007), estimated on the central
     revolutions of the record (:func:`_kurtogram_span`)."""
     spr = ref.samples_per_rev
-    whole = _whole(ref)
     spec = None
-    if whole.size >= spr:
-        spec = order_spectrum(whole, spr).rename("amplitude")
+    span = _whole(ref) if isinstance(ref, ArrayGrid) else _kurtogram_span(ref, spr)
+    if span.size >= spr:
+        spec = order_spectrum(span, spr).rename("amplitude")
         spec.attrs["units"] = units
+        if not isinstance(ref, ArrayGrid):
+            spec.attrs["revolutions"] = span.size // spr
     if envelope_band is not None:
         lo, hi = (float(v) for v in envelope_band)
         if not 0 < lo < hi < spr / 2:
@@ -682,8 +882,8 @@ def _spectrum_and_band(
         return spec, None, (lo, hi)
     try:
         top = min(float(ref.max_valid_order), 0.5 * spr)
-        kg = fast_kurtogram(_kurtogram_span(whole, spr), float(spr), unit="events/rev",
-                            fmax=top)
+        kg = fast_kurtogram(span if not isinstance(ref, ArrayGrid) else
+                            _kurtogram_span(ref, spr), float(spr), unit="events/rev", fmax=top)
     except InputError as exc:
         notes.append(f"kurtogram: {exc}; envelope of the full band")
         return spec, None, None
@@ -716,7 +916,9 @@ def extract_features(
     angle, a shaft turning backwards, is negated). ``components``: from
     :func:`~geardyn.diagnosis.components.machine_components` (reference = the shaft of
     ``ref_angle``). ``n_blocks``: blocks of whole own revolutions per component.
-    ``samples_per_rev``: of the reference grid (default: power of two ≥ the channel's density).
+    ``samples_per_rev``: of the reference grid (default: the power of two at or above
+    :data:`GRID_FACTOR` times the channel's samples per revolution at the slowest speed for a
+    time-sampled channel, at or above its samples per revolution for an angle-sampled one).
     ``envelope_band``: (lo, hi) in reference orders (default: kurtogram).
     ``ring_stage``: planetary stage whose fixed ring carries this accelerometer;
     ``sensor_angle`` [rad]: the sensor's angle in the frame — planet n, at ``θ_c + ψ_n``,
@@ -734,7 +936,7 @@ def extract_features(
             f"components: expected the result of machine_components(), got "
             f"{type(components).__name__}"
         )
-    xs = array1d("x", x, 16)
+    xs = _signal("x", x, 16)
     t = array1d("time", time, xs.size, "sample times [s]")
     th = array1d("ref_angle", ref_angle, xs.size, "reference angle [rad]")
     if t.size != xs.size or th.size != xs.size:
@@ -743,12 +945,13 @@ def extract_features(
             f"{t.size} and {th.size}"
         )
     nb = positive_int("n_blocks", n_blocks, "number of blocks")
-    if not np.all(np.diff(t) > 0):
+    if not _diff_extremes(t)[0] > 0:
         raise InputError("time: sample times must increase strictly")
-    d = np.diff(th)
-    if np.all(d < 0):
+    d_min, d_max = _diff_extremes(th)
+    if d_max < 0:
         th = -th
-    elif not np.all(d > 0):
+        d_min = -d_max
+    elif not d_min > 0:
         raise InputError(
             "ref_angle: the reference angle must be strictly monotonic (the shaft stops or "
             "reverses in the record; crop it)"
@@ -756,18 +959,31 @@ def extract_features(
     revs = (th[-1] - th[0]) / TWO_PI
     if revs < 1.0:
         raise InputError(f"ref_angle: the record spans {revs:.3g} reference revolutions; needs ≥ 1")
-    spr = (
-        _auto_samples_per_rev(xs.size, revs, _uniform_time(t) is not None)
-        if samples_per_rev is None
-        else positive_int("samples_per_rev", samples_per_rev, "samples per revolution", 8)
-    )
-    ref = _reference_signal(xs, t, th, spr)
+    fs = _uniform_time(t)
+    if samples_per_rev is not None:
+        spr = positive_int("samples_per_rev", samples_per_rev, "samples per revolution", 8)
+    elif fs is not None:  # channel samples per revolution at the slowest speed
+        spr = _auto_samples_per_rev(GRID_FACTOR * TWO_PI / d_min)
+    else:
+        spr = _auto_samples_per_rev(xs.size / max(revs, 1e-12))
     duration = float(t[-1] - t[0])
     mean_rpm = 60.0 * revs / duration if duration > 0 else math.nan
-    ctx = _Ctx(ref, nb, channel, units, [], {}, [])
+    source = None
+    if fs is not None:
+        source = (xs, fs, float(t[0]), th)
+        grid = AngleGrid(xs, fs, th, spr, t0=float(t[0]))
+        ref: AngleGrid | ArrayGrid = (
+            grid if grid.size > SEGMENT_MAX + spr else ArrayGrid(grid.signal())
+        )
+    else:
+        ref = ArrayGrid(_reference_signal(np.asarray(xs, dtype=float), t, th, spr))
+    ctx = _Ctx(ref, nb, channel, units, [], {}, [], source=source)
 
     spec, kg, band = _spectrum_and_band(ref, units, envelope_band, ctx.notes)
-    env = _bearing_features(ctx, components, band)
+    if isinstance(ref, ArrayGrid):
+        env = _bearing_features(ctx, components, band)
+    else:
+        env = _long_reference_pass(ctx, components, band)
 
     handled: set[str] = set()
     if ring_stage is not None and planet_windows:
@@ -832,7 +1048,8 @@ def _reference_angle(
     """Reference angle at ``time``: from a tacho channel on a shaft of the mechanism (pulse
     angles ``k·2π/R`` through :func:`geardyn.signal.angle_from_pulses`, divided by the shaft's
     ratio), else from the result's ``angle`` of the reference shaft. Returns (mask of ``time``
-    inside the source span, angle [rad] on those samples, source description)."""
+    inside the source span — a slice of the increasing ``time`` —, angle [rad] on those
+    samples, source description)."""
     from geardyn import results
     from geardyn.signal.resample import angle_from_pulses
 
@@ -845,8 +1062,9 @@ def _reference_angle(
     if tachos:
         _, ch, r = sorted(tachos, key=lambda z: z[0])[0]
         tp = np.asarray(ch.values, float)
-        mask = (time >= tp[0]) & (time <= tp[-1])
-        ang = angle_from_pulses(tp, time[mask], ch.pulses_per_rev or 1) / abs(r)
+        mask = _inside(time, tp[0], tp[-1])
+        ang = angle_from_pulses(tp, time[mask], ch.pulses_per_rev or 1)
+        ang /= abs(r)
         return mask, ang, f"tacho '{ch.name}' on '{ch.shaft}'"
     shaft_names = results.shafts(ds)
     src = reference if reference in shaft_names else None
@@ -858,9 +1076,16 @@ def _reference_angle(
             f"'{reference}'; give reference= one of the mechanism's links"
         )
     ts, th = results.shaft_angle(ds, src)
-    mask = (time >= ts[0]) & (time <= ts[-1])
-    ang = np.interp(time[mask], ts, th) / comps.ratios[src]
+    mask = _inside(time, ts[0], ts[-1])
+    ang = np.interp(time[mask], ts, th)
+    ang /= comps.ratios[src]
     return mask, ang, f"result angle of '{src}'"
+
+
+def _inside(time: np.ndarray, lo: float, hi: float) -> slice:
+    """The samples of increasing ``time`` within [lo, hi] (a slice: views, not copies)."""
+    return slice(int(np.searchsorted(time, lo, side="left")),
+                 int(np.searchsorted(time, hi, side="right")))
 
 
 def features_from_result(
@@ -897,14 +1122,18 @@ def features_from_result(
     if not np.isfinite(skip) or skip < 0:
         raise InputError(f"skip_s: must be a finite number ≥ 0 [s], got {skip_s!r}")
     time = np.asarray(ch.time, float)
-    x = np.asarray(ch.values, float)
-    keep = time >= time[0] + skip
-    if keep.sum() < 16:
+    x = np.asarray(ch.values)  # float32 stays float32 (converted stretch by stretch)
+    if x.dtype not in (np.float32, np.float64):
+        x = x.astype(float)
+    if not _diff_extremes(time)[0] > 0:
+        raise InputError(f"time: the sample times of '{ch.name}' must increase strictly")
+    keep = int(np.searchsorted(time, time[0] + skip, side="left"))
+    if time.size - keep < 16:
         raise InputError(
-            f"skip_s: dropping {skip:g} s leaves {int(keep.sum())} samples of '{ch.name}' "
+            f"skip_s: dropping {skip:g} s leaves {time.size - keep} samples of '{ch.name}' "
             f"(record {time[0]:g}–{time[-1]:g} s)"
         )
-    time, x = time[keep], x[keep]
+    time, x = time[keep:], x[keep:]
     mask, ang, _src = _reference_angle(ds, comps, ref, time)
     loc = str(ch.attrs.get("location", ""))
     m = _RING.search(loc)

@@ -152,6 +152,31 @@ ROTATING = ("shaft", "wheel", "sun", "ring", "planet")
 
 
 @dataclass
+class _RawStats:
+    """Per-revolution spectrum statistics of a domain before its band is known."""
+
+    acc: object  # geardyn.signal.stream.RevolutionStats
+    spr: int
+    removed: list[int]
+
+    @property
+    def n(self) -> int:
+        return int(self.acc.n)
+
+    def order_stats(self, top: int | None) -> OrderStats:
+        """:func:`order_stats` of the difference rows (the removed orders empty)."""
+        mean = self.acc.mean / self.spr
+        var = self.acc.var / self.spr**2
+        idx = [o for o in self.removed if 0 <= o < mean.size]
+        mean[idx] = 0.0
+        var[idx] = 0.0
+        if top is not None:
+            k = max(int(top), 1) + 1
+            mean, var = mean[:k], var[:k]
+        return OrderStats(mean, var, self.n)
+
+
+@dataclass
 class IsolationBlocks:
     """Difference signal of every whole own revolution, per own-angle domain of one record.
 
@@ -192,14 +217,57 @@ class IsolationBlocks:
                        stats=stats)
 
 
+#: Samples per stretch of the record-long checks and interpolations.
+_STRETCH = 1 << 20
+
+
 def _uniform(x: np.ndarray, time: np.ndarray) -> tuple[np.ndarray, float, float]:
     """Samples on a uniform time grid (angle-sampled channels are interpolated)."""
-    dt = np.diff(time)
     fs = (time.size - 1) / (time[-1] - time[0])
-    if np.max(np.abs(dt * fs - 1.0)) < 1e-6:
+    uniform = True
+    for a in range(0, time.size - 1, _STRETCH):
+        dt = np.diff(time[a:a + _STRETCH + 1])
+        if np.max(np.abs(dt * fs - 1.0)) >= 1e-6:
+            uniform = False
+            break
+    if uniform:
         return x, fs, float(time[0])
     tu = time[0] + np.arange(int(np.floor((time[-1] - time[0]) * fs)) + 1) / fs
-    return np.interp(tu, time, x), fs, float(time[0])
+    return np.interp(tu, time, np.asarray(x, dtype=float)), fs, float(time[0])
+
+
+def _on_uniform_grid(t0: float, fs: float, n: int, time: np.ndarray, values: np.ndarray
+                     ) -> np.ndarray:
+    """``np.interp(t0 + arange(n)/fs, time, values)`` stretch by stretch; ``values`` itself
+    when the grid is ``time`` to 1e-9 of a sample interval (a uniformly sampled channel: the
+    interpolation would move the values by less than their change over 1e-9 of a sample)."""
+    if time.size == n:
+        same = True
+        for a in range(0, n, _STRETCH):
+            tu = t0 + np.arange(a, min(n, a + _STRETCH)) / fs
+            if np.max(np.abs(tu - time[a:a + _STRETCH])) > 1e-9 / fs:
+                same = False
+                break
+        if same:
+            return values
+    out = np.empty(n)
+    for a in range(0, n, _STRETCH):
+        b = min(n, a + _STRETCH)
+        out[a:b] = np.interp(t0 + np.arange(a, b) / fs, time, values)
+    return out
+
+
+def _gradient_extremes(a: np.ndarray) -> tuple[float, float]:
+    """(min, max) of ``np.gradient(a)`` stretch by stretch."""
+    if a.size < 2:
+        raise InputError("angle: needs at least 2 samples")
+    lo = min(float(a[1] - a[0]), float(a[-1] - a[-2]))
+    hi = max(float(a[1] - a[0]), float(a[-1] - a[-2]))
+    for s in range(1, a.size - 1, _STRETCH):
+        e = min(a.size - 1, s + _STRETCH)
+        g = (a[s + 1:e + 1] - a[s - 1:e - 1]) / 2.0
+        lo, hi = min(lo, float(g.min())), max(hi, float(g.max()))
+    return lo, hi
 
 
 class _Domains:
@@ -214,18 +282,21 @@ class _Domains:
         if ch.sampling == "events":
             raise InputError(f"channel: '{ch.name}' holds pulse times, not a signal")
         time = np.asarray(ch.time, float)
-        x = np.asarray(ch.values, float)
-        keep = time >= time[0] + float(skip_s)
-        time, x = time[keep], x[keep]
+        x = np.asarray(ch.values)  # float32 stays float32 (converted stretch by stretch)
+        if x.dtype not in (np.float32, np.float64):
+            x = x.astype(float)
+        keep = int(np.searchsorted(time, time[0] + float(skip_s), side="left"))
+        time, x = time[keep:], x[keep:]
         mask, ang, _ = _reference_angle(ds, comps, ref, time)
         x, time = x[mask], time[mask]
-        if np.mean(np.diff(ang)) < 0:
-            ang = -ang
+        if ang[-1] < ang[0]:  # the sign of the mean increment
+            np.negative(ang, out=ang)
         self.x, self.fs, self.t0 = _uniform(x, time)
-        self.angle = np.interp(self.t0 + np.arange(self.x.size) / self.fs, time, ang)
-        rate = np.gradient(self.angle) * self.fs / (2 * np.pi)
-        self.rate = float(np.max(rate))
-        self.rate_min = float(max(np.min(rate), 1e-300))
+        self.angle = _on_uniform_grid(self.t0, self.fs, self.x.size, time, ang)
+        del ang
+        g_min, g_max = _gradient_extremes(self.angle)
+        self.rate = float(g_max * self.fs / (2 * np.pi))
+        self.rate_min = float(max(g_min * self.fs / (2 * np.pi), 1e-300))
         self.max_spr = max_spr
 
     @property
@@ -234,32 +305,46 @@ class _Domains:
         :func:`geardyn.signal.resample.resample_to_angle`)."""
         return self.fs / 2.56
 
-    def blocks(self, abs_ratio: float, teeth: Sequence[int]
-               ) -> tuple[np.ndarray, float] | None:
+    def blocks(self, abs_ratio: float, teeth: Sequence[int], rows: bool = True
+               ) -> tuple[np.ndarray | _RawStats, float] | None:
         """Difference signal of each whole revolution of the own angle ``abs_ratio·θ_ref``
         and the band [Hz] its orders cover unattenuated at every speed of the record (None
         with fewer than 2 revolutions). Samples per revolution: the power of two at or above
         ``fs`` per slowest own revolution (no band is lost to the angle grid), at most
-        ``max_spr``."""
-        from geardyn.signal.resample import resample_to_angle
+        ``max_spr``. ``rows=False``: instead of the rows, the statistics of their spectra
+        (:class:`_RawStats`), accumulated revolution batch by batch
+        (:class:`geardyn.signal.stream.AngleGrid`: no record-long array)."""
+        from geardyn.signal.stream import AngleGrid, RevolutionStats, revolution_spectra
+        from geardyn.signal.tsa import _mesh_orders
 
         spr = int(2 ** np.ceil(np.log2(max(self.fs / (self.rate_min * abs_ratio), 16.0))))
         spr = min(spr, self.max_spr)
-        sig = resample_to_angle(self.x, self.fs, abs_ratio * self.angle, samples_per_rev=spr,
-                                t0=self.t0)
-        start = (-int(round(sig.angle0 / (2 * np.pi) * spr))) % spr
-        seg = sig.x[start:]
-        if seg.size < 2 * spr:
+        grid = AngleGrid(self.x, self.fs, self.angle, spr, t0=self.t0, ratio=abs_ratio)
+        start = (-grid.k0) % spr
+        n = (grid.size - start) // spr
+        if n < 2:
             return None
-        b = revolution_blocks(seg, spr)
         ok = [z for z in teeth if 0 < z < spr // 2 - 1]
-        band = min(float(sig.max_valid_order) * self.rate * abs_ratio, self.band_hz,
+        band = min(float(grid.max_valid_order) * self.rate * abs_ratio, self.band_hz,
                    0.5 * spr * self.rate_min * abs_ratio)
-        return (difference_blocks(b, ok) if ok else b), band
+        if rows:
+            b = revolution_blocks(grid.samples(start, start + n * spr), spr)
+            return (difference_blocks(b, ok) if ok else b), band
+        acc = RevolutionStats()
+        per = max(1, _STRETCH // spr)
+        for r in range(0, n, per):
+            x = grid.samples(start + r * spr, start + min(n, r + per) * spr)
+            acc.add_spectra(revolution_spectra(x, spr))
+        removed: list[int] = []
+        if ok:  # difference_signal: mean, shaft order 1, mesh harmonics and ±1 sidebands
+            mesh = _mesh_orders(spr, ok, None)
+            removed = sorted({0, 1, *mesh, *(m - 1 for m in mesh), *(m + 1 for m in mesh)})
+        return _RawStats(acc, spr, removed), band
 
 
 def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noqa: ANN001
-                     skip_s: float = 0.0, max_samples_per_rev: int = 65536) -> IsolationBlocks:
+                     skip_s: float = 0.0, max_samples_per_rev: int = 65536,
+                     rows: bool = True) -> IsolationBlocks:
     """Per-revolution difference signals of ``channel`` of result ``ds`` in the own angle of
     every rotating component (kinematics of ``cfg``; reference angle as in
     :func:`geardyn.diagnosis.features.features_from_result`: a tacho, else the result's shaft
@@ -271,7 +356,11 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
     Every own-angle domain of the channel is compared over one band [Hz] (``top``: the
     orders below the narrowest domain band): a domain that reached higher would see there,
     partly coherent over a short record, the lines of another component that its own domain
-    cannot see — evidence for the wrong component."""
+    cannot see — evidence for the wrong component.
+
+    ``rows=False``: the own-angle and TE domains are returned as their per-order statistics
+    (``stats``, as :meth:`IsolationBlocks.compact` gives: all the evidence needs), accumulated
+    revolution batch by batch without the record's rows in memory (a long record)."""
     from geardyn import results
     from geardyn.diagnosis.components import machine_components
 
@@ -282,24 +371,31 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
     out = IsolationBlocks({}, {})
     bands: dict[str, tuple[float, float]] = {}
     own: dict[str, float] = {}
+    raw: dict[str, _RawStats] = {}
     for c in comps.items:
         if c.kind not in ROTATING or c.abs_ratio == 0.0:
             continue
         teeth = tuple(sorted({*c.mesh_orders, *c.other_orders}))
         key = f"{c.abs_ratio:.12g}|{teeth}"
-        if key not in out.domains:
-            b = main.blocks(c.abs_ratio, teeth)
+        if key not in out.domains and key not in raw:
+            b = main.blocks(c.abs_ratio, teeth, rows)
             if b is None:
                 continue
-            out.domains[key], band = b
-            bands[key] = (band, main.rate * c.abs_ratio)
+            if rows:
+                out.domains[key] = b[0]
+            else:
+                raw[key] = b[0]
+            bands[key] = (b[1], main.rate * c.abs_ratio)
             own[key] = c.abs_ratio
         out.of[c.name] = key
+    del main
     _common_band(out, bands)
     rates = member_rates(comps)
     for key, a in own.items():
-        out.ambiguous[key] = ambiguous_orders(a, rates, out.domains[key].shape[0],
-                                              out.top[key])
+        n_rev = out.domains[key].shape[0] if rows else raw[key].n
+        out.ambiguous[key] = ambiguous_orders(a, rates, n_rev, out.top[key])
+        if not rows:
+            out.stats[key] = raw.pop(key).order_stats(out.top.get(key))
     names = {c.name for c in comps.items}
     graph = comps.analysis.graph if comps.analysis is not None else None
     for te in results.channels(ds):
@@ -319,12 +415,17 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
             c = comps[w]
             key = f"TE {mesh.name}|{c.abs_ratio:.12g}"
             # every mesh of the wheel's shaft: the TE also carries the shaft's other meshes
-            b = dom.blocks(c.abs_ratio, tuple(sorted({z, *c.mesh_orders, *c.other_orders})))
+            b = dom.blocks(c.abs_ratio, tuple(sorted({z, *c.mesh_orders, *c.other_orders})),
+                           rows)
             if b is not None:
-                out.domains[key] = b[0]
                 out.top[key] = int(np.floor(b[1] / (dom.rate * c.abs_ratio)))
-                out.ambiguous[key] = ambiguous_orders(c.abs_ratio, member_rates(comps),
-                                                      b[0].shape[0], out.top[key])
+                if rows:
+                    out.domains[key] = b[0]
+                else:
+                    out.stats[key] = b[0].order_stats(out.top[key])
+                out.ambiguous[key] = ambiguous_orders(
+                    c.abs_ratio, member_rates(comps),
+                    b[0].shape[0] if rows else b[0].n, out.top[key])
                 out.of_te[w] = key
     for name, rows in _planet_rows(ds, cfg, channel, ref, skip_s).items():
         if rows.shape[0] >= 2:

@@ -18,6 +18,7 @@ scales the whole channel; the shape of its content is what the simulation contri
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Unpack
 
@@ -149,6 +150,7 @@ def diagnose_record(
         record_channel(ds, ch, f"baseline file '{path}'")
         _check_speed(ds, f"baseline file '{path}'")
         measured_files.append((path, ds))
+    del baseline_ds
     planetary = getattr(cfg, "planetary_dynamics", None) is not None
     run_length: dict[str, float | None] = {}
     if simulate:
@@ -162,11 +164,17 @@ def diagnose_record(
         run_length = _run_length(cfg, opts)
     n_sim = len(opts.baseline_seeds) if simulate else 0
     n = len(measured_files) + n_sim + 1
-    feats, blocks, done = [], [], 0
-    for path, ds in measured_files:
+    feats, blocks, levels, done = [], [], [], 0
+    for i, (path, ds) in enumerate(measured_files):
         _say(progress, f"indicators of baseline file '{path}'", done / n)
-        feats.append(_features(ds, cfg, ch, opts))
+        f = _features(ds, cfg, ch, opts)
+        # only the first baseline's order spectrum is drawn (behind the record's); the others
+        # would hold a record-long spectrum each until the end
+        feats.append(f if not feats else replace(f, order_spectrum=None))
         blocks.append(_blocks(ds, cfg, ch, opts))
+        levels.append(_rms(ds, ch))
+        measured_files[i] = (path, None)  # the file's samples are no longer needed
+        del ds
         done += 1
     info_base: dict[str, Any] = {"blocks": opts.blocks, "skip_s": opts.skip_s}
     if measured_files:
@@ -175,8 +183,7 @@ def diagnose_record(
         from geardyn.diagnosis.ensemble import simulate_baseline
         from geardyn.diagnosis.faults import healthy_variant
 
-        level = (float(np.median([_rms(ds, ch) for _, ds in measured_files]))
-                 if measured_files else None)
+        level = float(np.median(levels)) if levels else None
         sims, drawn = [], []
         for member, ds in simulate_baseline(
                 healthy_variant(cfg), opts, run_length,

@@ -221,7 +221,9 @@ def _blocks(ds: xr.Dataset, cfg: GeardynConfig, channel: str, opts: DiagnosisSpe
             ) -> IsolationBlocks:
     from geardyn.diagnosis.isolation import isolation_blocks
 
-    return isolation_blocks(ds, cfg, channel, reference=opts.reference, skip_s=opts.skip_s)
+    # per-order statistics only (what the evidence needs): no record-long rows in memory
+    return isolation_blocks(ds, cfg, channel, reference=opts.reference, skip_s=opts.skip_s,
+                            rows=False)
 
 
 def _judged_run(group: Sequence[Member], cfg: GeardynConfig, opts: DiagnosisSpec,

@@ -292,17 +292,19 @@ def sensor_band_figure(record: xr.DataArray, healthy: xr.DataArray | None,
     """Order spectrum over the sensor's band, log-log: record and healthy baseline, the mesh
     harmonics (dashed) and the transfer-path modes (dotted, labelled), a frequency axis [Hz]
     on top (f = order × f_ref)."""
+    from geardyn.signal.plots import curve_points
+
     dim = record.dims[0]
     o = np.asarray(record[dim].values, float)
     y = np.asarray(record.values, float)
     keep = (o > 0) & (o <= band.order_max)
     fig, ax = _axes((10, 4))
-    ax.plot(o[keep], y[keep], lw=0.5, color="0.2", label="record")
+    ax.plot(*curve_points(o[keep], y[keep], log_x=True), lw=0.5, color="0.2", label="record")
     if healthy is not None:
         ho = np.asarray(healthy[healthy.dims[0]].values, float)
         hk = (ho > 0) & (ho <= band.order_max)
-        ax.plot(ho[hk], np.asarray(healthy.values, float)[hk], lw=0.5, color="tab:cyan",
-                alpha=0.8, label="healthy baseline", zorder=1)
+        ax.plot(*curve_points(ho[hk], np.asarray(healthy.values, float)[hk], log_x=True),
+                lw=0.5, color="tab:cyan", alpha=0.8, label="healthy baseline", zorder=1)
     ax.set_xscale("log")
     ax.set_yscale("log")
     lo = float(o[keep][0]) if keep.any() else 1.0
@@ -343,15 +345,15 @@ def order_spectrum_figure(
     title: str,
 ) -> Any:
     """Record order spectrum (annotated) with the healthy baseline's behind it."""
-    from geardyn.signal.plots import plot_spectrum
+    from geardyn.signal.plots import curve_points, plot_spectrum
 
     fig = plot_spectrum(record, markers, xmax, title)
     ax = fig.axes[0]
     ax.lines[0].set_label("record")
     if healthy is not None:
         dim = healthy.dims[0]
-        ax.plot(healthy[dim].values, healthy.values, lw=0.6, color="tab:cyan", alpha=0.8,
-                label="healthy baseline", zorder=1)
+        ax.plot(*curve_points(healthy[dim].values, healthy.values, None, xmax), lw=0.6,
+                color="tab:cyan", alpha=0.8, label="healthy baseline", zorder=1)
     ax.set_ylabel(f"amplitude [{_units(record, 'channel units')}]")
     _curve_legend(ax)
     return fig
@@ -427,6 +429,12 @@ def spectrogram_segment(sample_rate_hz: float, n_samples: int, resolve_hz: float
     return max(16, min(nper, int(2 ** math.floor(math.log2(max(16, n_samples // 4))))))
 
 
+#: Records longer than this (samples) get a block-averaged spectrogram (at most 512 columns,
+#: :func:`geardyn.cli.long_record.block_spectrogram`) instead of every STFT frame (a 3e7-sample
+#: record would need ≈ 1 GB for its frames and draw millions of cells).
+LONG_SAMPLES = 1 << 22
+
+
 def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None = None,
                        resolve_hz: float | None = None, modes_hz: Sequence[float] = ()
                        ) -> Any | None:
@@ -444,11 +452,18 @@ def spectrogram_figure(ds: xr.Dataset, channel: str, fmax: float | None = None,
     if ch.sampling == "time" and ch.values.size >= 64:
         fs = ch.sample_rate_hz or 1.0 / float(np.median(np.diff(ch.time)))
         nper = spectrogram_segment(fs, ch.values.size, resolve_hz)
-        m = stft(ch.values - ch.values.mean(), fs, nperseg=nper)
+        how = ""
+        if ch.values.size > LONG_SAMPLES:  # a long record: mean STFT magnitude per block
+            from geardyn.cli.long_record import block_spectrogram
+
+            m = block_spectrogram(ch.values, fs, nperseg=nper)
+            how = f", mean over blocks of {m.attrs['note'].split()[-2]} samples"
+        else:
+            m = stft(ch.values - ch.values.mean(), fs, nperseg=nper)
         m.attrs["units"] = ch.units
         top = min(fs / 2, fmax) if fmax else fs / 2
         fig = plot_map(m, ymax=top, title=f"Spectrogram of {channel} (segments of {nper} "
-                       f"samples, {fs / nper:.3g} Hz bins)")
+                       f"samples, {fs / nper:.3g} Hz bins{how})")
         ax = fig.axes[0]
         ax.set_yscale("log")
         ax.set_ylim(fs / nper, top)

@@ -105,7 +105,9 @@ def _time_channel(ds: xr.Dataset, name: str, x: np.ndarray, fs: float, t0: float
                   attrs: dict[str, Any]) -> None:
     key = PREFIX + name
     dim = f"{key}.time"
-    t = t0 + np.arange(x.size) / fs
+    t = np.arange(x.size, dtype=float)  # t0 + i/fs, without record-long temporaries
+    t /= fs
+    t += t0
     ds[key] = xr.DataArray(x, dims=(dim,),
                            coords={dim: (dim, t, {"units": "s", "long_name": "time"})},
                            attrs={"sampling": "time", "sample_rate_hz": float(fs), **attrs})
@@ -245,7 +247,7 @@ def _mapped(raw: RawRecord, spec: MeasurementSpec, cfg: Any, fs: float | None) -
         if rc.attrs.get("full_scale_fraction") and c.full_scale is None:
             notes.append(f"{src}: audio samples are fractions of digital full scale and no "
                          f"full_scale is given: the channel is in relative units, not {units}")
-        x = np.asarray(rc.values, float) * factor
+        x = np.multiply(rc.values, factor, dtype=float)  # one float64 copy, scaled
         n_clip, first = clipped(x)
         if n_clip:
             notes.append(f"{src}: {n_clip} clipped sample(s) ({n_clip / x.size:.2%}; runs of "

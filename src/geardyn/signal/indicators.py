@@ -192,6 +192,20 @@ def _synchronous_stats(x: np.ndarray, samples_per_rev: int) -> tuple[np.ndarray,
     return np.abs(mean) ** 2 - var / n, var / n
 
 
+def synchronous_stats_from_moments(
+    mean: np.ndarray, var: np.ndarray, n: int, samples_per_rev: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_synchronous_stats` from the mean and variance (ddof = 1) of the per-revolution
+    rfft spectra of ``n ≥ 2`` revolutions (unscaled, e.g. accumulated revolution batch by
+    batch, :class:`geardyn.signal.stream.RevolutionStats`)."""
+    if n < 2:
+        raise InputError(f"x: needs at least 2 whole revolutions, got {n}")
+    c = 2.0 / int(samples_per_rev)
+    m = np.asarray(mean) * c
+    v = np.asarray(var) * (c * c)
+    return np.abs(m) ** 2 - v / n, v / n
+
+
 def synchronous_power(x: np.ndarray, samples_per_rev: int, clip: bool = True) -> np.ndarray:
     """Unbiased synchronous power per order of an angle-domain record of N ≥ 2 whole
     revolutions: ``|X̄(o)|² − V(o)/N``, with ``X̄`` the spectrum of the TSA and
@@ -222,6 +236,23 @@ def synchronous_energy_ratio(
     floored at its standard error ``√Σ(V/N)²`` (the spread of the estimate when there is no
     synchronous content), so that it never reads 0. Returns ``(ER, rms of the difference)``."""
     p, se = _synchronous_stats(x, samples_per_rev)
+    return energy_ratio_from_power(
+        p, se, samples_per_rev, teeth, regular, shaft_harmonics, sidebands, regular_sidebands
+    )
+
+
+def energy_ratio_from_power(
+    p: np.ndarray,
+    se: np.ndarray,
+    samples_per_rev: int,
+    teeth: int | Sequence[int] = (),
+    regular: Sequence[int] = (),
+    shaft_harmonics: int = 1,
+    sidebands: int = 1,
+    regular_sidebands: bool = True,
+) -> tuple[float, float]:
+    """:func:`synchronous_energy_ratio` from the unbiased synchronous power per order ``p`` and
+    its standard error ``se`` (:func:`synchronous_stats_from_moments`)."""
     spr = int(samples_per_rev)
     has_teeth = (isinstance(teeth, (int, np.integer)) and teeth) or (
         not isinstance(teeth, (int, np.integer)) and len(teeth)

@@ -81,9 +81,19 @@ def angle_from_pulses(
         )
     ang = angle0 + 2.0 * np.pi * np.arange(tp.size) / r
     out = CubicSpline(tp, ang)(t)
-    if t.size > 1 and np.any(np.diff(out)[np.diff(t) > 0] <= 0):
+    if t.size > 1 and _runs_backwards(out, t):
         out = PchipInterpolator(tp, ang)(t)
     return out
+
+
+def _runs_backwards(angle: np.ndarray, t: np.ndarray, chunk: int = 1 << 20) -> bool:
+    """Whether ``angle`` fails to increase between two increasing instants of ``t`` (checked
+    stretch by stretch: no record-long difference arrays)."""
+    for a in range(0, t.size - 1, chunk):
+        d = np.diff(angle[a : a + chunk + 1])
+        if np.any(d[np.diff(t[a : a + chunk + 1]) > 0] <= 0):
+            return True
+    return False
 
 
 def speed_from_pulses(
