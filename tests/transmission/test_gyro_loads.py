@@ -24,20 +24,10 @@ from geardyn.models.transmission.integrate import (
     run_loop,
 )
 from geardyn.models.transmission.simulate import simulate
+from tests.transmission._empty import empty_bearings, empty_meshes
 
 # one rigid disc (node 0): m = 10 kg, I_p = 0.2 kg·m², I_d = 0.1 kg·m²
 MASS, IP, ID = 10.0, 0.2, 0.1
-
-
-def _empty_bearings() -> tuple:
-    zi, z = np.zeros(0, np.int64), np.zeros(0)
-    return (zi, zi, zi, z, z, z, z, z, z, z, z, z, z, z, z)
-
-
-def _empty_meshes() -> tuple:
-    zi, z, z3 = np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 1, 1))
-    return (zi, zi, np.zeros((0, 1, 12)), zi, zi, z, z, z, z, z3, z3, z3, z3, z3, zi,
-            np.zeros((0, 3)), z, z, z, z3, np.zeros((0, 1, 12)), z)
 
 
 def _disc_run(K, C, q0, v0, dt, n_steps, rec_dofs, gyro: bool, xargs=None):
@@ -45,8 +35,8 @@ def _disc_run(K, C, q0, v0, dt, n_steps, rec_dofs, gyro: bool, xargs=None):
     M = rigid_disc(MASS, IP, ID)
     gargs = gyroscopic_args({"s": disc_gyroscopic(IP)}, {"s": [5]}) if gyro else None
     rec, energy, done, status, q, v, _ = run_loop(
-        q0.copy(), v0.copy(), dt, n_steps, 1, np.linalg.inv(M), K, C, _empty_bearings(),
-        _empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.array([0.0, 0.0]),
+        q0.copy(), v0.copy(), dt, n_steps, 1, np.linalg.inv(M), K, C, empty_bearings(),
+        empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.array([0.0, 0.0]),
         0.0, 0.0, 0.0, 0.0, 1.0, np.asarray(rec_dofs, np.int64), gargs=gargs, xargs=xargs)
     assert status == 0 and done == n_steps
     return rec, energy, q, v
@@ -246,8 +236,8 @@ def test_overhung_rotor_free_whirl_matches_campbell() -> None:
     dt = 0.8 * stable_time_step(M, K + np.diag(np.r_[np.zeros(n - 1), 1.0]))
     spin = {"s": list(range(5, n, 6))}
     rec, energy, done, status, q, v, _ = run_loop(
-        np.zeros(n), v0, dt, int(2.0 / dt), 1, minv, K, np.zeros((n, n)), _empty_bearings(),
-        _empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.zeros(2),
+        np.zeros(n), v0, dt, int(2.0 / dt), 1, minv, K, np.zeros((n, n)), empty_bearings(),
+        empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.zeros(2),
         0.0, 0.0, 0.0, 0.0, 1.0, np.array([d, d + 1], np.int64),
         gargs=gyroscopic_args({"s": G}, spin))
     assert status == 0

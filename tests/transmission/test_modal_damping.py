@@ -23,20 +23,10 @@ from geardyn.solve.explicit import (
     run_loop,
     stable_time_step,
 )
+from tests.transmission._empty import empty_bearings, empty_meshes
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "seed002_transmission.toml"
 ZETA = 0.005
-
-
-def _empty_bearings() -> tuple:
-    zi, z = np.zeros(0, np.int64), np.zeros(0)
-    return (zi, zi, zi, z, z, z, z, z, z, z, z, z, z, z, z)
-
-
-def _empty_meshes() -> tuple:
-    zi, z, z3 = np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 1, 1))
-    return (zi, zi, np.zeros((0, 1, 12)), zi, zi, z, z, z, z, z3, z3, z3, z3, z3, zi,
-            np.zeros((0, 3)), z, z, z, z3, np.zeros((0, 1, 12)), z)
 
 
 def _supported_shaft(mass: str = "lumped") -> tuple[np.ndarray, np.ndarray]:
@@ -62,8 +52,8 @@ def _decay(K, M, C, shape, dt, n_steps) -> tuple[np.ndarray, np.ndarray, np.ndar
     """Free decay from q0 = ``shape`` (v0 = 0) with :func:`run_loop`: (t, q(t), energy)."""
     n = K.shape[0]
     rec, energy, done, status, q, v, _ = run_loop(
-        shape.copy(), np.zeros(n), dt, n_steps, 1, np.linalg.inv(M), K, C, _empty_bearings(),
-        _empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.zeros(2),
+        shape.copy(), np.zeros(n), dt, n_steps, 1, np.linalg.inv(M), K, C, empty_bearings(),
+        empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.zeros(2),
         0.0, 0.0, 0.0, 0.0, 1.0, np.arange(n, dtype=np.int64))
     assert status == 0 and done == n_steps
     return rec[:, 0], rec[:, 2 : 2 + n], energy, q, v
@@ -222,8 +212,8 @@ def test_damped_step_limit(xi: float) -> None:
     q0 = np.array([1e-3, 0, 0, 0, 0, 0.0])
     for factor, grows in ((0.98, False), (1.02, True)):
         rec, _, done, status, q, v, _ = run_loop(
-            q0.copy(), np.zeros(6), factor * lim / w, 3000, 1, M, K, C, _empty_bearings(),
-            _empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.zeros(2),
+            q0.copy(), np.zeros(6), factor * lim / w, 3000, 1, M, K, C, empty_bearings(),
+            empty_meshes(), 5, 5, 5, 1.0, 1.0, 1.0, 0.0, np.array([0.0, 1e9]), np.zeros(2),
             0.0, 0.0, 0.0, 0.0, 1.0, np.array([0], np.int64))
         amp = np.max(np.abs(rec[-500:, 2])) if status == 0 else np.inf
         assert (amp > 1e-2) == grows, (factor, amp)
