@@ -151,11 +151,117 @@ def test_the_page_is_generated_from_the_stored_rows():
 
 
 @pytest.mark.parametrize(("argv", "named"), [
-    (["--workers", "0"], "--workers"), (["--only", "nope"], "--only"),
-    (["--rejudge"], "--rejudge")])
+    (["--workers", "0"], "--workers"), (["--only", "nope"], "--only")])
 def test_study_command_refuses_bad_options(tmp_path, capsys, argv, named):
     from geardyn.studies.detectability import main
 
     with pytest.raises(SystemExit) as exc:
         main(["--out", str(tmp_path / "s"), *argv])
     assert exc.value.code == 2 and named in capsys.readouterr().err
+
+
+#: A tiny study: one configuration per machine, 2 healthy records and the largest fault of
+#: one kind, a baseline of 2 runs × 1 measurement, planetary runs of 12 s.
+SMALL = {"diagnosis.baseline_seeds": [0, 1], "diagnosis.ensemble.measurements_per_run": 1}
+TINY_EXTRA = {"planetary 3 planets": {**SMALL, "planetary_dynamics.simulation.t_end_s": 12.0},
+              "planetary 4 planets": {**SMALL, "planetary_dynamics.simulation.t_end_s": 12.0},
+              "FE transmission": SMALL}
+
+
+def _tiny():
+    from dataclasses import replace
+
+    confs = design(counts={m: 1 for m in CONFIGURATIONS})
+    keep = ("sun crack 30%", "planet crack 30%", "outer-race spall 20°")
+    return [replace(c, records=tuple(r for r in c.records
+                                     if (r.fault_type == "healthy" and r.seed in (100, 101))
+                                     or r.label in keep)[:3]) for c in confs]
+
+
+def test_study_specs_hold_the_design():
+    """One spec per machine: records and configurations as two zipped groups combined as a
+    product, every case config the configuration's healthy config with the record's faults
+    (checked by specs() itself), records first; the planetary run length from the verdict."""
+    from geardyn.studies.detectability import study_specs
+    from geardyn.studies.sweeps import toml_dumps
+    from geardyn.sweep.spec import from_dict
+    from geardyn.sweep.verdicts import diagnosis_run_length_s
+
+    confs = design(counts={m: 2 for m in CONFIGURATIONS})
+    sts = study_specs(confs)
+    assert sum(len(st.configurations) for st in sts) == len(confs)
+    for st in sts:
+        sw = from_dict(st.spec)
+        assert sw.spec.outputs.diagnosis.record_machine == "fleet"
+        groups = list(dict.fromkeys(a.group for a in sw.axes))
+        assert groups == ["records", "configuration"]
+        n_rec = len(st.configurations[0].records)
+        assert len(sw.cases) == n_rec * len(st.configurations)
+        labels = [c.labels(sw.axes) for c in sw.cases]
+        assert labels[0]["configuration"] == st.configurations[0].id
+        assert labels[1]["record"] == labels[0]["record"] or len(st.configurations) == 1
+        assert {x["half"] for x in labels} <= {"tune", "report"}
+        assert sorted({(x["record"], c.seed) for x, c in zip(labels, sw.cases,
+                                                             strict=True)}) == sorted(
+            {(r.label, r.seed) for r in st.configurations[0].records})
+        # the generated TOML is the same spec
+        import tomllib
+
+        assert from_dict(tomllib.loads(toml_dumps(st.spec))).spec_hash == sw.spec_hash
+        if st.configurations[0].machine.startswith("planetary"):
+            from geardyn.studies.sweeps import configuration_config
+
+            for k, c in enumerate(st.configurations):
+                cfg = configuration_config(c, run_length=False)
+                t = sw.case_config(next(x for x in sw.cases if x.value_index[
+                    [a.name for a in sw.axes].index("configuration")] == k))
+                need = diagnosis_run_length_s(cfg)
+                got = t["planetary_dynamics"]["simulation"]["t_end_s"]
+                assert need <= got < need + 0.1 + 1e-9
+
+
+@pytest.mark.slow
+def test_tiny_study_runs_through_geardyn_sweep(tmp_path):
+    """The tiny study run by the study's sweep specs (LocalCluster of 2 workers): rows with
+    the verdict, SNR and CPU times, one cached baseline per configuration, the written specs
+    re-run by `geardyn sweep` with nothing left to run, statistics and page from the rows."""
+    import time
+
+    from geardyn.studies.detectability import run_sweeps, write_rows
+    from geardyn.sweep import load_spec, run
+
+    confs = _tiny()
+    out = tmp_path / "study"
+    t0 = time.perf_counter()
+    rows = run_sweeps(confs, out, workers=2, extra=TINY_EXTRA, run_length=False)
+    wall = time.perf_counter() - t0
+    assert len(rows) == sum(len(c.records) for c in confs) == 9
+    assert [r["status"] for r in rows] == ["ok"] * 9, [r["status"] for r in rows]
+    for r in rows:
+        assert r["verdict"] in ("alarm", "uncertain", "healthy")
+        assert r["tests"] > 0 and 0 < r["alpha_per_test"] < 0.01
+        assert not (r["detected"] and r["verdict"] == "healthy")
+        assert r["record_cpu_s"] > 0 and r["baseline_cpu_s"] > 0
+        if r["fault_type"] == "healthy":
+            assert r["snr"] == 0.0
+        else:
+            assert r["snr"] > 0 and r["expected"]
+    specs = sorted(out.glob("*.toml"))
+    assert len(specs) == 3 and all(p.with_suffix(".zarr").is_dir() for p in specs)
+    for p in specs:  # one baseline per configuration, shared by its records
+        assert len(list((p.with_suffix(".zarr") / "diagnosis_cache").glob("baseline-*"))) == 1
+        again = run(load_spec(p), p.with_suffix(".zarr"), n_workers=1)
+        assert again.run == 0
+    df = pd.DataFrame(rows)
+    st = statistics(df, None)
+    assert st["records"] == 9 and st["failed"] == 0 and st["detected_reported_healthy"] == 0
+    text = page(df, 0.01, "cmd", float(df["record_cpu_s"].sum()))
+    assert "## Tune half" in text
+    write_rows(rows, tmp_path / "rows.json.gz")
+    import gzip
+    import json
+
+    with gzip.open(tmp_path / "rows.json.gz", "rt") as fh:
+        assert len(json.load(fh)) == 9
+    cpu = df.drop_duplicates("config")["baseline_cpu_s"].sum() + df["record_cpu_s"].sum()
+    print(f"tiny study: {wall:.0f} s wall, {cpu:.0f} s worker CPU")

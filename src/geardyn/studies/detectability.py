@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from geardyn.studies.runner import Configuration, RecordSpec, read_rows, run_study
+from geardyn.studies.runner import Configuration, RecordSpec
 
 #: Study seed (draws of the configurations and of the halves).
 SEED = 2026
@@ -391,43 +391,71 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
     return "\n".join(lines)
 
 
+def study_specs(confs: Sequence[Configuration], *,
+                extra: dict[str, dict[str, Any]] | None = None,
+                run_length: bool = True) -> list[Any]:
+    """The sweep specs of the study (:func:`geardyn.studies.sweeps.specs`): each record a
+    machine of its configuration's fleet (``record_machine = "fleet"``, seed
+    :data:`FLEET_SEED`), the planetary run length from the verdict's requirement
+    (``run_length``); ``extra``: machine → (config path → value) on its configurations."""
+    from geardyn.studies.sweeps import specs
+
+    return specs(confs, seed=SEED, diagnosis={"record_machine": "fleet",
+                                              "fleet_seed": FLEET_SEED},
+                 extra=extra, run_length=run_length)
+
+
+def run_sweeps(confs: Sequence[Configuration], out: str | Path, *, scheduler: str | None = None,
+               workers: int | None = 2, only: set[str] | None = None,
+               progress: Any = None, **options: Any) -> list[dict[str, Any]]:  # noqa: ANN401
+    """Write the study's specs into ``out`` and run them as ``geardyn sweep SPEC --out
+    STORE`` does (resumable); returns the rows of every stored case. ``options``: those of
+    :func:`study_specs`."""
+    from geardyn.studies.sweeps import rows, run_specs, write_specs
+
+    paths = write_specs(study_specs(confs, **options), out)
+    run_specs(paths, scheduler=scheduler, workers=workers, only=only, progress=progress)
+    return rows(paths, confs)
+
+
+def write_rows(rows: list[dict[str, Any]], path: str | Path) -> None:
+    """The rows as gzip-compressed JSON (docs/data/detectability_rows.json.gz)."""
+    import gzip
+    import json
+
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    with gzip.open(p, "wt") as fh:
+        json.dump(rows, fh, default=lambda v: v.item() if isinstance(v, np.generic) else str(v))
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m geardyn.studies.detectability",
                                  description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", required=True, help="study folder (rows, design; resumable)")
-    ap.add_argument("--docs", default=None, help="docs folder: writes detectability.md and "
-                    "img/detectability_*.png")
+    ap.add_argument("--out", required=True, help="study folder: one sweep spec and store per "
+                    "machine (OUT/<machine>.toml, OUT/<machine>.zarr; resumable)")
+    ap.add_argument("--docs", default=None, help="docs folder: writes detectability.md, "
+                    "img/detectability_*.png and data/detectability_rows.json.gz")
     ap.add_argument("--scheduler", default=None, help="Dask scheduler address (default: a "
                     "LocalCluster)")
     ap.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes")
     ap.add_argument("--only", default=None, help="comma-separated configuration ids to run")
-    ap.add_argument("--baselines-from", default=None, help="an earlier study folder whose "
-                    "cached baseline ensembles are reused (records simulated again)")
-    ap.add_argument("--rejudge", action="store_true", help="judge the stored records again "
-                    "with the current code (no simulation), then write the page")
     args = ap.parse_args(argv)
     if args.workers < 1:
         ap.error(f"--workers: must be >= 1, got {args.workers}")
-    confs = sorted(design(), key=lambda c: (int(c.id.split("-")[1]), c.machine))  # interleaved
+    confs = design()
+    only = None
     if args.only:
-        keep = {i.strip() for i in args.only.split(",") if i.strip()}
-        unknown = sorted(keep - {c.id for c in confs})
-        if unknown or not keep:
+        only = {i.strip() for i in args.only.split(",") if i.strip()}
+        unknown = sorted(only - {c.id for c in confs})
+        if unknown or not only:
             ap.error(f"--only: unknown configuration id(s) {', '.join(unknown) or '(none)'}; "
                      f"the design has {', '.join(c.id for c in confs)}")
-        confs = [c for c in confs if c.id in keep]
-    if args.rejudge and not (Path(args.out) / "cases").is_dir():
-        ap.error(f"--rejudge: {args.out} holds no cached configurations (cases/)")
     t0 = time.time()
-    if args.rejudge:
-        from geardyn.studies.runner import rejudge
-
-        print(f"judged again: {rejudge(args.out, args.workers)} configurations")
-    else:
-        run_study(confs, args.out, scheduler=args.scheduler, workers=args.workers,
-                  progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True),
-                  baselines_from=args.baselines_from)
-    rows = pd.DataFrame(read_rows(args.out))
+    rows = pd.DataFrame(run_sweeps(
+        confs, args.out, scheduler=args.scheduler,
+        workers=None if args.scheduler else args.workers, only=only,
+        progress=lambda m: print(f"[{time.time() - t0:7.0f} s] {m}", flush=True)))
     if rows.empty:
         print("no rows stored yet")
         return 0
@@ -439,6 +467,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         (docs / "detectability.md").write_text(page(
             rows, 0.01, "python -m geardyn.studies.detectability --out study --docs docs",
             cpu))
+        write_rows(rows.to_dict("records"), docs / "data" / "detectability_rows.json.gz")
     st = statistics(rows, None)
     print(f"records {st['records']} (failed {st['failed']}); false alarms "
           f"{_ci(st['false_alarm'])}; detection {_ci(st['detection'])}; isolation "

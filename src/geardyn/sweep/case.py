@@ -203,6 +203,7 @@ def run_case(task: dict[str, Any]) -> dict[str, Any]:
     dict), ``state_samples`` (length of the state grid or None). Returns ``index``, ``status``,
     ``message``, ``wall_time_s`` and ``arrays``."""
     t0 = time.perf_counter()
+    cpu0 = time.process_time()
     out: dict[str, Any] = {"index": task["index"], "status": STATUS_FAILED, "message": "",
                            "arrays": {}, "kinds": {}}
     try:
@@ -211,11 +212,30 @@ def run_case(task: dict[str, Any]) -> dict[str, Any]:
 
         cfg = parse_config(task["config"], source=f"case {task['index']}")
         run = {k: v for k, v in task["run"].items() if v is not None}
+        outputs = task["outputs"]
+        diag = outputs.get("diagnosis")
+        rec = None
+        if diag is not None:  # the record of geardyn diagnose (geardyn.sweep.diagnosis)
+            from geardyn.sweep.diagnosis import record
+
+            rec = record(cfg, int(task["seed"]), task["run"], diag)
+            cfg = rec.config
+            run = {k: v for k, v in rec.run_length.items() if v is not None}
         ds = run_simulation(cfg, seed=int(task["seed"]), **run)
         status = str(ds.attrs.get("status", "ok"))
         out["status"] = status
         out["message"] = str(ds.attrs.get("diagnosis", "")) if status != "ok" else ""
-        outputs = task["outputs"]
+        if rec is not None and status == "ok":
+            from geardyn.sweep.diagnosis import judge
+
+            try:
+                arrays, note = judge(ds, rec, int(task["seed"]), diag, task.get("store"), cpu0)
+            except Exception as exc:  # noqa: BLE001 - recorded in the store, sweep goes on
+                out["status"] = STATUS_FAILED
+                out["message"] = f"diagnosis: {type(exc).__name__}: {exc}"
+            else:
+                out["arrays"].update(arrays)
+                out["message"] = note
         ch = outputs["channels"]
         for name in ch["names"]:
             out["arrays"].update(_channel(ds, name, ch["every"], ch["samples"]))

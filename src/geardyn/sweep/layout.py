@@ -104,7 +104,9 @@ def _t_end(sweep: Sweep, cfg: Any) -> float | None:
     pd = getattr(cfg, "planetary_dynamics", None)
     if pd is None or pd.simulation is None:
         return None
-    return float(sweep.spec.run.t_end_s or pd.simulation.t_end_s)
+    diag = getattr(cfg, "diagnosis", None)  # [outputs.diagnosis]: the run of geardyn diagnose
+    own = diag.t_end_s if diag is not None and sweep.spec.outputs.diagnosis is not None else None
+    return float(sweep.spec.run.t_end_s or own or pd.simulation.t_end_s)
 
 
 def _planetary_checks(cfg: Any, t_end: float) -> tuple[list[str], list[str], list[str]]:
@@ -310,6 +312,14 @@ def plan(sweep: Sweep) -> Layout:
         if spec.run.revolutions is not None and t_end is not None:
             problems.append(f"{where}: run.revolutions applies to the FE transmission; the "
                             "planetary run length is run.t_end_s")
+        if spec.outputs.diagnosis is not None:
+            from geardyn.diagnosis.pipeline import check_ready
+
+            try:
+                check_ready(cfg, options(cfg))
+            except GeardynError as exc:
+                problems.append(f"{where}: outputs.diagnosis: {exc}")
+                continue
         if ind.enabled:
             o = options(cfg, channel=ind.channel, skip_s=ind.skip_s, blocks=ind.blocks)
             n_blocks = o.blocks
@@ -402,6 +412,11 @@ def plan(sweep: Sweep) -> Layout:
         out.variables["revolutions"] = Variable(
             ("component",), {"units": "1", "long_name": "whole own revolutions of the "
                              "component in the analysed record (0: left out)"})
+    if spec.outputs.diagnosis is not None:
+        from geardyn.sweep.diagnosis import VARIABLES
+
+        for name, (text, attrs) in VARIABLES.items():
+            out.variables[f"diagnosis.{name}"] = Variable((), dict(attrs), text=text)
     for d, (labels, _a) in out.coords.items():
         out.sizes[d] = len(labels)
     return out

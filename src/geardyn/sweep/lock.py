@@ -134,3 +134,45 @@ def store_lock(store: str | Path) -> Iterator[dict[str, Any]]:
         if _read(path) == info:
             with contextlib.suppress(OSError):
                 os.unlink(path)
+
+
+@contextlib.contextmanager
+def wait_lock(path: str | Path, poll_s: float = 0.2) -> Iterator[dict[str, Any]]:
+    """Hold the lock file ``<path>.lock`` for the block, waiting while another process holds
+    it (a cache entry being computed by another worker); a lock left by a process that is
+    gone (same host) is taken over silently — the entry it guarded is written under a
+    temporary name and renamed, so nothing half-written is left behind it."""
+    lock = Path(str(path) + ".lock")
+    pid = os.getpid()
+    info = {"pid": pid, "host": socket.gethostname(), "start_ticks": _start_ticks(pid),
+            "started": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "nonce": os.urandom(8).hex()}
+    unreadable = 0
+    while not _create(lock, info):
+        held = _read(lock)
+        if held is None:
+            continue
+        if not held and unreadable < 25:  # being written by its creator: wait a moment
+            unreadable += 1
+            time.sleep(poll_s)
+            continue
+        if held and _alive(held):
+            time.sleep(poll_s)
+            continue
+        aside = lock.with_name(f"{lock.name}.stale-{pid}")
+        try:
+            os.rename(lock, aside)
+        except FileNotFoundError:
+            continue
+        moved = _read(aside)
+        if moved is not None and moved != held:  # another process's fresh lock: put it back
+            with contextlib.suppress(OSError):
+                os.rename(aside, lock)
+            continue
+        with contextlib.suppress(OSError):
+            os.unlink(aside)
+    try:
+        yield info
+    finally:
+        if _read(lock) == info:
+            with contextlib.suppress(OSError):
+                os.unlink(lock)

@@ -109,11 +109,13 @@ def _quiet_on_interrupt() -> Iterator[None]:
         log.setLevel(level)
 
 
-def _task(sweep: Sweep, i: int, state_samples: int | None) -> dict[str, Any]:
+def _task(sweep: Sweep, i: int, state_samples: int | None, out: Path | None = None
+          ) -> dict[str, Any]:
     case = sweep.cases[i]
     return {"index": i, "seed": case.seed, "config": sweep.case_config(case),
             "run": sweep.spec.run.model_dump(), "outputs": sweep.spec.outputs.model_dump(),
-            "state_samples": state_samples}
+            "state_samples": state_samples,
+            "store": str(out.resolve()) if out is not None else None}
 
 
 @contextlib.contextmanager
@@ -248,8 +250,8 @@ def _run_cases(client: Any, sweep: Sweep, out: Path, todo: list[int], prog: Swee
     writer = store.Writer(out)
     n_state = writer.sizes.get("state_time")
     token = uuid.uuid4().hex[:8]
-    futures = [client.submit(run_case, _task(sweep, i, n_state), key=f"geardyn-case-{i}-{token}",
-                             pure=False) for i in todo]
+    futures = [client.submit(run_case, _task(sweep, i, n_state, out),
+                             key=f"geardyn-case-{i}-{token}", pure=False) for i in todo]
     index = {f.key: i for f, i in zip(futures, todo, strict=True)}
     try:
         for fut in as_completed(futures):

@@ -183,6 +183,21 @@ class VerdictOutput(_M):
         description="posterior probability a component needs to be named as the location")
 
 
+class DiagnosisOutput(_M):
+    """Each case judged as ``geardyn diagnose`` judges its config (:mod:`geardyn.sweep.
+    diagnosis`): the case runs with its config's ``diagnosis.record_seed`` and is judged
+    against the healthy baseline ensemble of its own config (``[diagnosis.ensemble]`` of the
+    config with its faults removed), simulated once per healthy config and shared through a
+    cache in the store."""
+
+    record_machine: Literal["nominal", "fleet"] = Field(
+        "nominal", description="nominal: the config as written (as geardyn diagnose); fleet: "
+        "another machine of the baseline's fleet (the ensemble's perturbations, seeded by "
+        "fleet_seed and the healthy config)")
+    fleet_seed: int = Field(0, ge=0, description="seed of the fleet draws (record_machine = "
+                            "'fleet')")
+
+
 class OutputSpec(_M):
     """``[outputs]``: what each case stores."""
 
@@ -190,6 +205,7 @@ class OutputSpec(_M):
     states: StateOutput = Field(default_factory=StateOutput)
     indicators: IndicatorOutput = Field(default_factory=IndicatorOutput)
     verdicts: VerdictOutput | None = None
+    diagnosis: DiagnosisOutput | None = None
 
 
 class SweepSpec(_M):
@@ -222,6 +238,12 @@ class SweepSpec(_M):
             if clash:
                 raise ValueError(f"axis name(s) {', '.join(clash)} are the names of verdict "
                                  "variables (outputs.verdicts); rename the axis")
+        if self.outputs.diagnosis is not None and self.sweep.replicates != 1:
+            raise ValueError(f"sweep.replicates = {self.sweep.replicates}: with "
+                             "[outputs.diagnosis] each case is the record of geardyn diagnose, "
+                             "run with its config's diagnosis.record_seed; replicates would "
+                             "repeat it: vary that seed with an axis (path "
+                             "'diagnosis.record_seed') instead")
         return self
 
 
@@ -603,9 +625,33 @@ def from_dict(data: Mapping[str, Any], root: str | Path = ".",
     sweep = Sweep(spec, json.loads(json.dumps(data, default=str)), base_path, base, base_hash,
                   axes, tuple(cases))
     validate_cases(sweep)
+    if spec.outputs.diagnosis is not None:
+        sweep = _record_seeds(sweep, source)
     _check_outputs(sweep, base_cfg)
     _check_sizes(sweep, base_cfg)
     return sweep
+
+
+def _record_seeds(sweep: Sweep, source: str) -> Sweep:
+    """With ``[outputs.diagnosis]``: each case's seed is its config's ``diagnosis.
+    record_seed`` (the record of ``geardyn diagnose``), which must not be a baseline seed."""
+    from geardyn.config.diagnosis import DiagnosisSpec
+
+    cases, problems = [], {}
+    for case in sweep.cases:
+        d = sweep.case_config(case).get("diagnosis")
+        opts = DiagnosisSpec.model_validate(d) if d else DiagnosisSpec()
+        seed = int(opts.record_seed)
+        if seed in opts.baseline_seeds:
+            vals = ", ".join(f"{k} = {v!r}" for k, v in case.labels(sweep.axes).items())
+            key = (f"diagnosis.record_seed: {seed} is also a baseline seed "
+                   f"{list(opts.baseline_seeds)}; the record must be an independent run")
+            problems.setdefault(key, f"case {case.index} ({vals}): {key}")
+        cases.append(Case(case.index, seed, case.replicate, case.value_index))
+    if problems:
+        raise ConfigError(list(problems.values()), source=source)
+    return Sweep(sweep.spec, sweep.spec_dict, sweep.base_path, sweep.base, sweep.base_hash,
+                 sweep.axes, tuple(cases))
 
 
 def _check_sizes(sweep: Sweep, cfg: Any) -> None:

@@ -90,8 +90,11 @@ def create(path: str | Path, sweep: Sweep, layout: Layout) -> bool:
         coords[a.name] = ("case", arr, attrs)
     coords["replicate"] = ("case", np.array([c.replicate for c in sweep.cases], np.int64),
                            {"long_name": "replicate of the combination"})
+    diag = sweep.spec.outputs.diagnosis is not None
     coords["seed"] = ("case", np.array([c.seed for c in sweep.cases], np.int64),
-                      {"long_name": "run seed: SeedSequence([sweep seed, case]) first word"})
+                      {"long_name": "run seed: the case config's diagnosis.record_seed (the "
+                                    "record of geardyn diagnose)" if diag else
+                                    "run seed: SeedSequence([sweep seed, case]) first word"})
     data = {
         "status": ("case", _strings([PENDING] * n),
                    {"long_name": "'' pending; ok / diverged / suspect / stopped / reversed "
@@ -133,7 +136,8 @@ def create(path: str | Path, sweep: Sweep, layout: Layout) -> bool:
         "base_config_sha256": sweep.base_hash,
         "base_config_json": json.dumps(sweep.base, sort_keys=True),
         "sweep_seed": sweep.spec.sweep.seed,
-        "seed_rule": "seed = SeedSequence([sweep_seed, case]).generate_state(1)[0]",
+        "seed_rule": ("seed = diagnosis.record_seed of the case config" if diag
+                      else "seed = SeedSequence([sweep_seed, case]).generate_state(1)[0]"),
         "combine": sweep.spec.sweep.combine,
         "axes": json.dumps([a.name for a in sweep.axes]),
         "case_variables": json.dumps(sorted(layout.variables)),
@@ -278,7 +282,11 @@ class Writer:
         for name in self.variables:
             dims = self.dims[name]
             if name in self.text:
-                rows[name] = (np.full([self.sizes[d] for d in dims], "", dtype=object), True)
+                shape = [self.sizes[d] for d in dims]
+                if name in arrays and not dims:  # a case's text value (diagnosis.*)
+                    rows[name] = (np.asarray(str(arrays[name][0]), dtype=object), True)
+                else:  # filled after the cases (verdicts)
+                    rows[name] = (np.full(shape, "", dtype=object), True)
                 continue
             if name in arrays:
                 values, _attrs, rdims, cds = arrays[name]
@@ -307,6 +315,8 @@ class Writer:
         for name, (values, text) in rows.items():
             if name == "message":
                 self.group[name][index] = message
+            elif text and np.ndim(values) == 0:
+                self.group[name][index] = str(values)
             elif text:
                 self.group[name][index] = np.asarray(values, dtype=object).astype(str)
             else:

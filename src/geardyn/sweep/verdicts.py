@@ -66,6 +66,73 @@ MIN_OWN_REVOLUTIONS = MIN_REVS_PER_BLOCK
 #: detection among the components judged while others were too short.
 NOT_JUDGED = "not judged"
 PARTLY_JUDGED = "partly judged"
+#: Fewest planet-separated rows of a planet for its evidence (``#planet``, the evidence that
+#: names a planet): per-order statistics need a variance between rows
+#: (:func:`geardyn.diagnosis.isolation.order_stats`), and
+#: :func:`geardyn.diagnosis.isolation.isolation_blocks` keeps planets with at least 2.
+MIN_PLANET_ROWS = 2
+
+
+def planet_row_revolutions(cfg: Any, channel: str | None, reference: str | None  # noqa: ANN401
+                           ) -> float:
+    """Reference revolutions an analysed record needs for :data:`MIN_PLANET_ROWS`
+    planet-separated rows of every planet seen by the ring accelerometer ``channel``
+    (0 when the channel is not on the fixed ring of a planetary stage).
+
+    A row holds M = :func:`geardyn.diagnosis.planets.passes_per_row` consecutive planet
+    passes (one per carrier revolution relative to the ring), rows start at multiples of M
+    counted from the reference angle's origin, and a pass counts when its window of W
+    ring-mesh periods (the default of :func:`geardyn.diagnosis.planets.planet_domains`,
+    ``max(2, Z_r // 2N)``) lies inside the record. Whatever the record's phase, P
+    consecutive passes hold ``floor((P + 1)/M) − 1`` whole rows at worst, so R rows need
+    ``P = (R + 1)·M − 1`` passes, and P passes need ``P + (W + 1)/Z_r`` carrier revolutions
+    (the window, plus one ring-mesh period for the rounding of the window's samples);
+    divided by the carrier's revolutions relative to the ring per reference revolution."""
+    from geardyn.diagnosis.components import machine_components
+    from geardyn.diagnosis.planets import passes_per_row
+
+    sensor = next((s for s in getattr(cfg, "sensors", []) if s.name == channel), None)
+    if (sensor is None or sensor.kind != "accelerometer"
+            or getattr(sensor, "location", None) != "ring"):
+        return 0.0
+    comps = machine_components(cfg, reference)
+    stages = [st for st in comps.planetary if st.ring_fixed]
+    st = next((x for x in stages if x.name == sensor.stage), None) if sensor.stage else (
+        stages[0] if stages else None)
+    if st is None or st.ring_ratio == 0.0:
+        return 0.0
+    zr, zp, n = st.ring_teeth, st.planet_ring_teeth, st.n_planets
+    w = max(2, zr // (2 * n))
+    m = passes_per_row(zr, zp, w)
+    passes = (MIN_PLANET_ROWS + 1) * m - 1
+    return (passes + (w + 1) / zr) / abs(st.ring_ratio)
+
+
+def diagnosis_run_length_s(cfg: Any) -> float | None:  # noqa: ANN401
+    """Planetary run length [s] whose analysed record (after ``diagnosis.skip_s``) holds, at
+    the slowest speed of the baseline ensemble (input speed × (1 − ``ensemble.
+    speed_tolerance``)), :data:`MIN_OWN_REVOLUTIONS` whole own revolutions of every rotating
+    component and :data:`MIN_PLANET_ROWS` planet-separated rows of every planet
+    (:func:`planet_row_revolutions`); None when the config states no input speed of its
+    reference. The verdict's own requirements, nothing fitted."""
+    from geardyn.diagnosis.isolation import ROTATING
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.sweep.layout import _components, _reference
+
+    if getattr(cfg, "planetary_dynamics", None) is None:
+        return None
+    o = options(cfg)
+    ch = o.channel or next((s.name for s in getattr(cfg, "sensors", [])
+                            if s.kind != "tacho"), None)
+    ref = _reference(cfg, ch, o.reference)
+    rpm = (getattr(cfg, "input_speeds_rpm", {}) or {}).get(ref)
+    if rpm is None or rpm == 0:
+        return None
+    ratios = [r for _n, k, r in _components(cfg, ref) if k in ROTATING and r > 0]
+    revs = max([MIN_OWN_REVOLUTIONS / min(ratios)] if ratios else [0.0])
+    revs = max(revs, planet_row_revolutions(cfg, ch, ref))
+    slowest = abs(float(rpm)) * (1.0 - o.ensemble.speed_tolerance) / 60.0
+    return float(o.skip_s + revs / slowest)
 
 
 def _table(ind: np.ndarray, comps: list[str], kinds: list[str], inds: list[str],
