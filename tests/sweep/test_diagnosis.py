@@ -187,3 +187,27 @@ def test_planet_run_length_gives_every_planet_two_rows() -> None:
     rows = planet_domains(ds, slow, "ring_acc", skip_s=cfg.diagnosis.skip_s)
     assert len(rows) == 3 and all(r.shape[0] >= MIN_PLANET_ROWS for r in rows.values())
     assert math.isfinite(t) and np.isfinite(list(rows.values())[0]).all()
+
+
+def test_check_names_cases_too_short_to_name_a_planet(small: Path, tmp_path: Path) -> None:
+    """`geardyn sweep --check`: a 12 s seed 004 record holds 6.2 sun revolutions after
+    skip_s, a planet needs 43.9 (8.17 carrier revolutions); 90 s runs are long enough."""
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+    from geardyn.studies.sweeps import toml_dumps
+    from geardyn.sweep.verdicts import planet_row_notes
+
+    notes = planet_row_notes(from_dict(_spec(small)))
+    assert len(notes) == 2 and "run too short to name a planet" in notes[0]
+    assert "6.22 reference revolutions" in notes[1] and "43.9 give every planet" in notes[1]
+    long = _spec(small)
+    long["run"] = {"t_end_s": 90.0}
+    assert planet_row_notes(from_dict(long)) == []
+    p = tmp_path / "spec.toml"
+    p.write_text(toml_dumps(_spec(small)))
+    r = CliRunner().invoke(
+        app, ["sweep", str(p), "--out", str(tmp_path / "x.zarr"), "--check"], terminal_width=400
+    )
+    assert r.exit_code == 0, r.output
+    assert "too short to name a planet" in r.output

@@ -127,12 +127,12 @@ def _check(sweep) -> None:  # noqa: ANN001 - Sweep
     from rich.markup import escape
 
     from geardyn.sweep.layout import plan
-    from geardyn.sweep.verdicts import short_case_notes
+    from geardyn.sweep.verdicts import planet_row_notes, short_case_notes
 
     layout = plan(sweep)
     for note in layout.notes:
         console.print(f"warning: {note}", highlight=False)
-    for note in short_case_notes(sweep):
+    for note in [*short_case_notes(sweep), *planet_row_notes(sweep)]:
         console.print(f"warning: {escape(note)}", highlight=False)
     console.print("spec, every case and the run-time checks are valid; nothing run (--check)")
 

@@ -26,8 +26,17 @@ record's SNR; isolation accuracy among detected faults (planet level apart); det
 reported healthy (0 by construction: :mod:`geardyn.diagnosis.localise`). Intervals are
 Clopper–Pearson 95 % (Clopper & Pearson 1934).
 
-Run: ``python -m geardyn.studies.detectability --out study --docs docs`` (resumable; a
-``--scheduler`` address runs it on a cluster).
+**Planetary run length** (:func:`geardyn.sweep.verdicts.diagnosis_run_length_s`): what the
+verdict needs — 2 planet-separated rows per planet (the evidence that names a planet) and 4
+own revolutions of every rotating component after ``skip_s``, at the ensemble's slowest speed —
+set per configuration; not tuned on results.
+
+Run: ``python -m geardyn.studies.detectability --out study --docs docs``. It runs through
+``geardyn sweep`` (:mod:`geardyn.studies.sweeps`): one spec per machine (and faulty planet),
+``study/<machine>.toml`` next to its store ``study/<machine>.zarr`` (``[outputs.diagnosis]``,
+:mod:`geardyn.sweep.diagnosis`), run as ``geardyn sweep SPEC --out STORE`` runs it — resumable,
+a ``--scheduler`` address runs it on a cluster —; ``--docs`` writes the page, its figures and
+its rows (``docs/data/detectability_rows.json.gz``).
 """
 
 from __future__ import annotations
@@ -299,6 +308,23 @@ def figures(rows: pd.DataFrame, img: Path, half: str = "report") -> list[str]:
     return names
 
 
+def _run_lengths(rows: pd.DataFrame) -> str:
+    """The planetary run lengths of the rows (``run_s``, written since the run length is set
+    from the planet-separation requirement; older rows ran the examples' 50 s)."""
+    need = ("the verdict's requirement (`geardyn.sweep.verdicts.diagnosis_run_length_s`: 2 "
+            "planet-separated rows per planet and 4 own revolutions of every component after "
+            "`skip_s`, at the ensemble's slowest speed)")
+    plan = rows[rows["machine"].astype(str).str.startswith("planetary")]
+    run = (pd.to_numeric(plan["run_s"], errors="coerce").dropna() if "run_s" in plan
+           else pd.Series(dtype=float))
+    if len(run):
+        return (f"Planetary runs: {run.min():.1f}–{run.max():.1f} s per configuration, from "
+                f"{need}.")
+    return ("Planetary runs: 50 s, the examples' length (these rows predate the run length "
+            f"set from {need}: at 50 s a planet has fewer than 2 planet-separated rows, so no "
+            "planet can be named).")
+
+
 def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
     """docs/detectability.md from the study rows."""
     rep = statistics(rows, "report")
@@ -314,6 +340,17 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
         "`geardyn.studies.detectability` (module docstring).",
         "",
         f"Regenerate: `{command}` ({cpu_s / 3600:.1f} CPU hours for the whole study).",
+        "",
+        "The command writes one `geardyn sweep` spec per machine (and faulty planet) into the "
+        "study folder, `study/<machine>.toml` next to its store `study/<machine>.zarr`, with "
+        "`[outputs.diagnosis]`: each record judged as `geardyn diagnose` judges its config, "
+        "against the baseline ensemble of its own healthy config "
+        "([sweeps.md](sweeps.md#each-case-judged-as-geardyn-diagnose-judges-it-outputsdiagnosis))"
+        "; the configurations are one zipped axis group (labels `configuration`, `half`), the "
+        "records another (`record`, `fault_type`, `severity`). `geardyn sweep "
+        "study/<machine>.toml --out study/<machine>.zarr` runs or resumes one alone "
+        "(`--scheduler` for a cluster, as the study command); the rows of this page are kept "
+        "in `docs/data/detectability_rows.json.gz`.",
         "",
         "## Design",
         "",
@@ -335,6 +372,8 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
         "(600–2000 Hz planetary, 2–6 kHz FE) and damping ratio (0.02–0.10), sensor noise × "
         "[0.5, 3]. Each configuration is judged against its own healthy baseline ensemble "
         "(defaults of `[diagnosis.ensemble]`).",
+        "",
+        _run_lengths(rows),
         "",
         f"## Results (report half: {rep['configurations']} configurations, {rep['records']} "
         f"records, {rep['failed']} failed runs)",
@@ -375,7 +414,7 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
     reasons = failed.groupby("status")["config"].agg(lambda c: sorted(set(c)))
     lines += ["", "## Limitations of this run", "",
               "* The record machines are other machines of the baseline's fleet (perturbation "
-              f"seed {FLEET_SEED} + configuration index); the healthy records of one "
+              f"seed drawn from {FLEET_SEED} and the configuration); the healthy records of one "
               "configuration share its operating point and sensor, so they are not independent "
               "of each other: the false-alarm interval treats them as if they were.",
               "* Failed runs (kept as rows, not judged):"]

@@ -45,6 +45,7 @@ planet set / planet), ``candidates``, ``tests`` [1] (m), ``alpha_per_test`` [1],
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -524,6 +525,57 @@ def short_case_notes(sweep: Sweep, most: int = 5) -> list[str]:
     if len(short) > most:
         out.append(f"… and {len(short) - most} more distinct case config(s)")
     return out
+
+
+def planet_row_notes(sweep: Sweep, most: int = 5) -> list[str]:
+    """``geardyn sweep --check``: the planetary cases (with ``[outputs.diagnosis]`` or
+    ``[outputs.verdicts]``) whose analysed record, at the case's nominal input speed, holds
+    fewer carrier revolutions than :data:`MIN_PLANET_ROWS` planet-separated rows per planet
+    need (:func:`planet_row_revolutions`): no planet can be named there (a planet fault is
+    localised to the planet set at best); each with the run length that would name one."""
+    from geardyn.config.loader import parse_config
+    from geardyn.diagnosis.pipeline import options
+    from geardyn.sweep.layout import _distinct, _reference, _t_end, _where, _without_faults
+
+    out_spec = sweep.spec.outputs
+    if out_spec.diagnosis is None and out_spec.verdicts is None:
+        return []
+    notes = []
+    seen: set[str] = set()
+    for index, data in _distinct(sweep):
+        machine = _without_faults(data)  # one note per machine and run: faults, record
+        (machine.get("diagnosis") or {}).pop("record_seed", None)  # seeds change nothing
+        key = json.dumps(machine, sort_keys=True, default=str)
+        if key in seen:
+            continue
+        seen.add(key)
+        cfg = parse_config(data)
+        t_end = _t_end(sweep, cfg)
+        if t_end is None:
+            continue
+        channel = (out_spec.indicators.channel if out_spec.diagnosis is None else None)
+        o = options(cfg, channel=channel,
+                    skip_s=out_spec.indicators.skip_s if out_spec.diagnosis is None else None)
+        ch = o.channel or next((s.name for s in cfg.sensors if s.kind != "tacho"), None)
+        ref = _reference(cfg, ch, o.reference)
+        rpm = (getattr(cfg, "input_speeds_rpm", {}) or {}).get(ref)
+        if rpm is None or rpm == 0:
+            continue
+        need = planet_row_revolutions(cfg, ch, ref)
+        have = max(t_end - o.skip_s, 0.0) * abs(float(rpm)) / 60.0
+        if need > have:
+            notes.append(f"{_where(sweep, index)}: {have:.3g} reference revolutions after "
+                         f"skip_s, {need:.3g} give every planet {MIN_PLANET_ROWS} "
+                         f"planet-separated rows; {o.skip_s + need / have * (t_end - o.skip_s):.3g}"
+                         " s would (run length)")
+    if not notes:
+        return []
+    head = (f"{len(notes)} planetary machine(s) of the sweep run too short to name a planet: "
+            f"the evidence that names one needs {MIN_PLANET_ROWS} planet-separated rows per "
+            "planet (geardyn.diagnosis.planets; docs/sweeps.md), without it a planet fault is "
+            "localised to the planet set at best")
+    return [head, *notes[:most]] + ([f"… and {len(notes) - most} more"]
+                                    if len(notes) > most else [])
 
 
 def write_verdicts(path: str | Path, sweep: Sweep) -> None:
