@@ -246,6 +246,8 @@ def test_tiny_study_runs_through_geardyn_sweep(tmp_path):
             assert r["snr"] == 0.0
         else:
             assert r["snr"] > 0 and r["expected"]
+    for c in confs:  # one baseline per configuration: its CPU time read from the cache
+        assert len({r["baseline_cpu_s"] for r in rows if r["config"] == c.id}) == 1
     specs = sorted(out.glob("*.toml"))
     assert len(specs) == 3 and all(p.with_suffix(".zarr").is_dir() for p in specs)
     for p in specs:  # one baseline per configuration, shared by its records

@@ -107,6 +107,7 @@ def test_cases_are_judged_as_geardyn_diagnose(small: Path, tmp_path: Path) -> No
     d = {k.split(".", 1)[1]: ds[k].values for k in ds.data_vars if k.startswith("diagnosis.")}
     # one baseline for the three cases (one healthy config), simulated once and cached
     assert len(set(d["baseline"])) == 1
+    assert len(set(d["baseline_cpu_s"])) == 1  # read from the cache, not simulated again
     assert len(list((out / "diagnosis_cache").glob("baseline-*.pkl"))) == 1
     assert d["snr"][0] == 0.0 and d["snr"][2] == 0.0 and d["snr"][1] > 1.0
     assert list(d["expected"]) == ["", "planetary.sun", ""]
@@ -211,3 +212,30 @@ def test_check_names_cases_too_short_to_name_a_planet(small: Path, tmp_path: Pat
     )
     assert r.exit_code == 0, r.output
     assert "too short to name a planet" in r.output
+
+
+def test_a_baseline_that_fails_is_cached_as_a_failure(small: Path, tmp_path: Path) -> None:
+    """Every case of a machine whose baseline cannot be simulated fails with the reason,
+    the second without simulating it again."""
+    from geardyn.config.loader import load_config
+    from geardyn.errors import InputError
+    from geardyn.sweep import diagnosis as dg
+
+    rec = dg.record(load_config(small), 100, {}, {})
+    calls = []
+
+    def boom(r: object) -> dict:
+        calls.append(r)
+        raise ValueError("static equilibrium did not converge")
+
+    store = tmp_path / "s.zarr"
+    store.mkdir()
+    orig = dg._simulate_baseline
+    dg._simulate_baseline = boom
+    try:
+        for _ in range(2):
+            with pytest.raises(InputError, match="static equilibrium did not converge"):
+                dg.baseline(rec, str(store))
+    finally:
+        dg._simulate_baseline = orig
+    assert len(calls) == 1

@@ -63,6 +63,8 @@ from typing import Any
 
 import numpy as np
 
+from geardyn.errors import GeardynError, InputError
+
 #: Folder of the cache inside the store.
 CACHE = "diagnosis_cache"
 
@@ -288,8 +290,16 @@ def baseline(rec: Record, store: str | None) -> tuple[dict[str, Any], bool, str]
     with wait_lock(path):
         if path.exists():
             with path.open("rb") as fh:
-                return pickle.load(fh), False, ""  # noqa: S301 - the sweep's own cache
-        base = _simulate_baseline(rec)
+                base = pickle.load(fh)  # noqa: S301 - the sweep's own cache
+            if "error" in base:  # a baseline that cannot be simulated fails every case fast
+                raise InputError(f"{base['error']} (cached: delete '{path}' to simulate it again)")
+            return base, False, ""
+        try:
+            base = _simulate_baseline(rec)
+        except (GeardynError, ValueError, FloatingPointError) as exc:
+            msg = f"healthy baseline ensemble: {type(exc).__name__}: {exc}"
+            _write_atomic(path, lambda fh: pickle.dump({"error": msg}, fh))
+            raise InputError(msg) from None
         _write_atomic(path, lambda fh: pickle.dump(base, fh, protocol=pickle.HIGHEST_PROTOCOL))
         return base, True, ""
 
