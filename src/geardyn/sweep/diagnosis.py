@@ -13,15 +13,19 @@ diagnose`` writes for that config and seed; no other case of the sweep enters it
 
 **Baseline cache.** The baseline depends only on the healthy config and the diagnosis
 options, so the cases that share them (a fault and its healthy records at one operating
-point) share one simulated ensemble: its features and per-order statistics are kept in
+point) share one simulated ensemble: what the verdict reads of its features (:func:`_slim`)
+and its per-order statistics are kept in
 ``STORE/diagnosis_cache/baseline-<key>.pkl``, ``key`` a SHA-256 of the healthy config, the
 ``[diagnosis]`` options, the run length and the geardyn version. The first worker that needs
 it holds ``<file>.lock`` (:func:`geardyn.sweep.lock.wait_lock`: created exclusively; another
 worker waits; a lock whose process is gone is taken over) while it simulates, and writes the
 file under a temporary name renamed into place — an interrupted worker leaves no partial
 file. A resumed sweep finds the ensembles of its finished cases there. The workers must see
-the store's folder (a LocalCluster does; a cluster needs a shared file system, else each
-case simulates its baseline and says so in its ``message``).
+the store's folder to share the cache (a LocalCluster does; a cluster needs a shared file
+system, else each host caches in its own copy of the path, or each case simulates its
+baseline and says so in its ``message`` where the path cannot be created). A lock left on a
+shared file system by a worker of *another* host cannot be checked and is waited for: delete
+it by hand once that worker is known to be gone (as the store's own lock).
 
 **Record machine.** ``record_machine = "nominal"`` (default) runs the config as written, as
 ``geardyn diagnose`` does. ``"fleet"`` runs another machine of the baseline's fleet: the
