@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -23,6 +24,7 @@ import pytest
 from scipy.stats import t as student
 
 from geardyn.diagnosis.isolation import (
+    ARRAY_CANCELLED,
     Evidence,
     band_energy_share,
     coherent_evidence,
@@ -30,6 +32,8 @@ from geardyn.diagnosis.isolation import (
     comb_mask,
     evidence_from_null,
     order_stats,
+    planet_array_gain,
+    planet_array_masks,
     synchronous_deviation_ratio,
 )
 from geardyn.diagnosis.localise import (
@@ -41,6 +45,8 @@ from geardyn.diagnosis.localise import (
 )
 from geardyn.diagnosis.verdict import ComponentVerdict, IndicatorVerdict, Verdict
 from geardyn.errors import InputError
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 SPR, R = 128, 10
 
@@ -71,7 +77,8 @@ def test_evidence_threshold_is_the_student_prediction_bound_and_rises_with_the_s
 
 def _coherent_by_loops(rec, bases):
     """Independent random-effects ANOVA per order: explicit loops over orders, members and
-    revolutions (Searle, Casella & McCulloch 1992, ch. 3)."""
+    revolutions (Searle, Casella & McCulloch 1992, ch. 3), the record's mean against its own
+    within-record variance (Welch 1947)."""
     def spec(rows):
         n = rows.shape[1]
         k = np.arange(n // 2 + 1)
@@ -84,16 +91,15 @@ def _coherent_by_loops(rec, bases):
         means = [b[:, o].mean() for b in bs]
         grand = sum(means) / m
         ss = sum(np.sum(np.abs(b[:, o] - b[:, o].mean()) ** 2) for b in bs)
-        ss += np.sum(np.abs(rs[:, o] - rs[:, o].mean()) ** 2)
-        dof = sum(b.shape[0] - 1 for b in bs) + rs.shape[0] - 1
-        v = ss / dof
+        v = ss / sum(b.shape[0] - 1 for b in bs)  # the baselines' pooled within variance
+        v_rec = np.sum(np.abs(rs[:, o] - rs[:, o].mean()) ** 2) / (rs.shape[0] - 1)
         inv_n = sum(1 / b.shape[0] for b in bs) / m
         between = 0.0
         if m > 1:
             between = max(sum(abs(x - grand) ** 2 for x in means) / (m - 1) - v * inv_n, 0.0)
-        if v > 0:
+        if v + v_rec > 0:  # the record's mean judged by its own spread (Welch 1947)
             fs.append(abs(rs[:, o].mean() - grand) ** 2
-                      / (between * (1 + 1 / m) + v * (1 / rs.shape[0] + inv_n / m)))
+                      / (between * (1 + 1 / m) + v_rec / rs.shape[0] + v * inv_n / m))
     return float(np.mean(fs))
 
 
@@ -139,6 +145,72 @@ def test_coherent_sdr_a_healthy_fleet_that_varies_is_no_evidence():
     assert 0.85 < np.mean(new) < 1.3
     fixed = [coherent_sdr(order_stats(machine(100 + i)), [fleet[i % 12]]) for i in range(20)]
     assert np.mean(fixed) > 5.0
+
+
+def test_coherent_sdr_a_strong_line_that_does_not_repeat_is_bounded_by_its_leak():
+    """A fault of another member puts a line between this domain's orders (order 10.37 here,
+    continuous across revolutions). Averaged over R revolutions it keeps the Dirichlet
+    fraction |D_R(δ)|² of its power in the record's mean and spreads the rest over the
+    revolutions, so judged by the record's own spread (Welch 1947) it scores at most
+    R·|D|²/(1 − |D|²) at its nearest orders — 0.078 here — whatever its power, and
+    its leakage raises the record's spread at the other orders: cSDR does not rise above the
+    line-free value even 100 × above the noise. Judged by a variance pooled with the 12
+    healthy baselines it rose by 40 % (0.86 → 1.22). A line that repeats with the member
+    (order 10) rises as its power."""
+    t = np.arange(R * SPR) / SPR
+    bases = [order_stats(_noise(s)) for s in range(12)]
+
+    def score(a, order):
+        rec = _noise(99) + (a * np.cos(2 * np.pi * order * t)).reshape(R, SPR)
+        return coherent_sdr(order_stats(rec), bases)
+
+    for delta in (0.37, 0.63):
+        d2 = (np.sin(np.pi * R * delta) / (R * np.sin(np.pi * delta))) ** 2
+        assert R * d2 / (1 - d2) < 0.2
+    free = score(0.0, 10.37)
+    assert score(10.0, 10.37) <= free and score(100.0, 10.37) <= free
+    assert score(10.0, 10.0) > 100.0 * free
+
+
+def test_planet_array_gain_closed_form_and_the_sun_pattern_it_describes():
+    """|Σ_n exp(−i·o·ψ_n)|/N: 1 at multiples of N and 0 elsewhere for equally spaced planets;
+    a pattern repeated at each planet position (a sun tooth meeting N planets, McFadden 1991)
+    has power only at the orders where the gain is not 0."""
+    for n in (3, 4, 5):
+        psi = 2 * np.pi * np.arange(n) / n
+        g = planet_array_gain(psi, 40)
+        o = np.arange(41)
+        assert np.allclose(g[o % n == 0], 1.0, atol=1e-12)
+        assert np.all(g[o % n != 0] < 1e-12)
+        theta = 2 * np.pi * np.arange(512) / 512
+        pulse = sum(np.exp(-0.5 * ((np.angle(np.exp(1j * (theta - p)))) / 0.03) ** 2)
+                    for p in psi)
+        spec = np.abs(np.fft.rfft(pulse)[:41]) ** 2
+        assert spec[o % n != 0].max() < 1e-20 * spec.sum()
+    uneven = np.radians([0.0, 118.0, 242.0])
+    g = planet_array_gain(uneven, 10)
+    ref = np.abs(np.exp(-1j * np.outer(np.arange(11), uneven)).sum(axis=1)) / 3
+    assert np.allclose(g, ref, rtol=1e-14)
+    assert np.all(g > ARRAY_CANCELLED)  # no order cancels exactly: every order kept
+
+
+def test_planet_array_masks_only_for_domains_of_the_sun_or_the_ring_alone():
+    import geardyn
+    from geardyn.diagnosis.components import machine_components
+
+    cfg = geardyn.load_config(EXAMPLES / "planet_crack_4_planets.toml")
+    comps = machine_components(cfg, "sun")
+    st = comps.planetary[0]
+    of = {c.name: f"{c.abs_ratio:.12g}|{c.kind}" for c in comps.items
+          if c.kind in ("sun", "ring", "planet", "shaft")}
+    masks = planet_array_masks(comps, of)
+    sun = next(c.name for c in comps.items if c.kind == "sun")
+    ring = next(c.name for c in comps.items if c.kind == "ring")
+    assert set(masks) == {of[sun], of[ring]}
+    keep = masks[of[sun]](20)
+    assert np.array_equal(keep, np.arange(21) % st.n_planets == 0)
+    shared = {**of, "extra shaft": of[sun]}  # a domain the sun shares keeps every order
+    assert of[sun] not in planet_array_masks(comps, shared)
 
 
 def _coloured(seed):

@@ -391,9 +391,12 @@ def isolation_blocks(ds, cfg, channel: str, reference: str | None = None,  # noq
     del main
     _common_band(out, bands)
     rates = member_rates(comps)
+    cancelled = planet_array_masks(comps, out.of)
     for key, a in own.items():
         n_rev = out.domains[key].shape[0] if rows else raw[key].n
         out.ambiguous[key] = ambiguous_orders(a, rates, n_rev, out.top[key])
+        if key in cancelled:
+            out.ambiguous[key] |= ~cancelled[key](out.top[key])
         if not rows:
             out.stats[key] = raw.pop(key).order_stats(out.top.get(key))
     names = {c.name for c in comps.items}
@@ -476,6 +479,51 @@ def ambiguous_orders(own_ratio: float, ratios: Iterable[float], revolutions: int
         hit = (np.abs(pos - near) < width) & (near >= 1) & (near <= top)
         mask[near[hit].astype(int)] = True
     return mask
+
+
+def planet_array_gain(angles: Sequence[float], top: int) -> np.ndarray:
+    """|Σ_n exp(−i·o·ψ_n)| / N for own orders o = 0…``top`` of a sun or ring (relative to
+    its carrier) whose N planets sit at carrier angles ψ_n. A tooth of that member meets
+    planet n at relative angle ψ_n (+ the tooth's own angle), so the part of its fault
+    signature that repeats with the member — the average over the carrier's positions, what
+    its synchronous average keeps — is Σ_n s(θ − ψ_n): the planets' copies of one pattern
+    s, whose spectrum is S(o)·Σ_n exp(−i·o·ψ_n) (the sun's signature repeated at each planet,
+    McFadden 1991). Equally spaced planets: 1 at multiples of N, 0 elsewhere."""
+    psi = np.asarray(angles, float)
+    if psi.size == 0:
+        return np.ones(int(top) + 1)
+    o = np.arange(int(top) + 1)
+    return np.abs(np.exp(-1j * np.outer(o, psi)).sum(axis=1)) / psi.size
+
+
+#: Planet-array gain below which an order is taken as cancelled (round-off of the sum of N
+#: unit phasors in double precision is ~1e-15; no physical gain is that small but zero).
+ARRAY_CANCELLED = 1e-9
+
+
+def planet_array_masks(comps, of: Mapping[str, str]  # noqa: ANN001 - a Components
+                       ) -> dict[str, Any]:
+    """Domain key → function ``top`` → bool mask of the orders 0…top at which a tooth fault
+    of the domain's member can appear (:func:`planet_array_gain` above
+    :data:`ARRAY_CANCELLED`), for every own-angle domain that belongs only to the sun or
+    the ring of one planetary stage (a domain shared with another component keeps every
+    order: that component's faults are not bound to the planets). Orders where the planets'
+    copies cancel carry only what leaks in from other members' faults and noise; they are
+    left out of the member's comparison like the ambiguous orders."""
+    byname = {c.name: c for c in comps.items}
+    members: dict[str, list[str]] = {}
+    for c, key in of.items():
+        members.setdefault(key, []).append(c)
+    out: dict[str, Any] = {}
+    for st in getattr(comps, "planetary", None) or []:
+        if st.n_planets < 2:
+            continue
+        angles = tuple(float(a) for a in st.planet_angles)
+        for key, names in members.items():
+            if all(n in byname and byname[n].kind in ("sun", "ring")
+                   and byname[n].stage == st.name for n in names):
+                out[key] = (lambda top, a=angles: planet_array_gain(a, top) > ARRAY_CANCELLED)
+    return out
 
 
 def _common_band(out: IsolationBlocks, bands: Mapping[str, tuple[float, float]]) -> None:
@@ -658,23 +706,33 @@ def coherent_sdr(record: OrderStats, baselines: Sequence[OrderStats]) -> float:
     """Coherent synchronous deviation ratio of ``record`` against ``baselines`` (one
     :class:`OrderStats` per healthy record of the same domain): per order o ≥ 1,
 
-        F_o = |m_rec(o) − B(o)|² / ( σ_b²(o)·(1 + 1/M) + V(o)·(1/n_rec + ⟨1/n_j⟩/M) ),
+        F_o = |m_rec(o) − B(o)|² / ( σ_b²(o)·(1 + 1/M) + V_rec(o)/n_rec + V(o)·⟨1/n_j⟩/M ),
 
     with B the mean of the M baselines' mean spectra, V the pooled within-record variance of
-    the revolutions (record and baselines), ⟨1/n_j⟩ the baselines' mean inverse revolution
-    count and σ_b² the between-record variance of the baselines' mean spectra beyond what
-    their within-record variance explains, ``max(Σ_j |m_j − B|²/(M − 1) − V·⟨1/n_j⟩, 0)``:
-    the one-way random-effects analysis of variance of the revolutions per order (Searle,
-    Casella & McCulloch 1992, ch. 3; for TSA orders: Braun 1975, McFadden 1987). The
-    denominator is the variance of the difference between a new healthy record's mean
-    spectrum and B, so an order that differs between healthy machines (mesh sidebands that
-    move with speed and load, a transfer path) weighs no more than an order that repeats
-    exactly. cSDR is the mean of F_o over the orders that carry variance (orders removed by
-    the difference signal carry none). Without a synchronous change, E[F_o] ≈ 1 whatever the
-    power of the order, so a strong line counts as one order among many, while a local
-    fault, which repeats every revolution and spreads over many orders, raises them all.
-    One baseline: σ_b² cannot be estimated and is 0 (the fixed-effects test). Orders beyond
-    the shortest record's grid are left out."""
+    the baselines' revolutions, V_rec the record's own, ⟨1/n_j⟩ the baselines' mean inverse
+    revolution count and σ_b² the between-record variance of the baselines' mean spectra
+    beyond what their within-record variance explains, ``max(Σ_j |m_j − B|²/(M − 1) −
+    V·⟨1/n_j⟩, 0)``: the one-way random-effects analysis of variance of the revolutions per
+    order (Searle, Casella & McCulloch 1992, ch. 3; for TSA orders: Braun 1975, McFadden
+    1987), with the record's mean judged by its own revolution-to-revolution spread (Welch
+    1947: the two samples need not share a variance). The denominator is the variance of the
+    difference between a new healthy record's mean spectrum and B, so an order that differs
+    between healthy machines (mesh sidebands that move with speed and load, a transfer path)
+    weighs no more than an order that repeats exactly. cSDR is the mean of F_o over the
+    orders that carry variance (orders removed by the difference signal carry none). Without
+    a synchronous change, E[F_o] ≈ 1 whatever the power of the order, so a strong line counts
+    as one order among many, while a local fault, which repeats every revolution and spreads
+    over many orders, raises them all.
+
+    Why the record's own variance: a fault of *another* member adds to this domain content
+    that does not repeat with it (lines between its orders). Averaged over n revolutions such
+    a line keeps the fraction |D_n(δ)|² of its power in the mean (D_n the Dirichlet kernel,
+    δ its distance to the nearest order) and puts the rest in the revolutions' spread. Judged
+    against the healthy baselines' spread it would score ∝ its power — a strong fault
+    elsewhere would look synchronous here; judged against the record's own spread its score
+    is bounded by n·|D_n(δ)|²/(1 − |D_n(δ)|²) whatever its power. One baseline: σ_b² cannot
+    be estimated and is 0 (the fixed-effects test). Orders beyond the shortest record's grid
+    are left out."""
     terms = _coherent_terms(record, baselines)
     if terms is None:
         return math.nan
@@ -723,12 +781,12 @@ def _coherent_terms(record: OrderStats, baselines: Sequence[OrderStats], masked:
     big_m = len(baselines)
     means = np.array([b.mean[:k] for b in baselines])
     b_mean = means.mean(axis=0)
-    dof = float(np.sum(nb - 1) + record.n - 1)
-    pooled = (np.sum([(b.n - 1) * b.var[:k] for b in baselines], axis=0)
-              + (record.n - 1) * record.var[:k]) / dof
-    top = float(np.max(pooled[1:])) if k > 1 else 0.0
+    pooled = np.sum([(b.n - 1) * b.var[:k] for b in baselines], axis=0) / float(np.sum(nb - 1))
+    own = record.var[:k]
+    both = pooled + own
+    top = float(np.max(both[1:])) if k > 1 else 0.0
     ok = np.zeros(k, bool)
-    ok[1:] = pooled[1:] > 1e-12 * top
+    ok[1:] = both[1:] > 1e-12 * top
     if top <= 0.0 or not ok.any():
         return None
     inv_n = float(np.mean(1.0 / nb))
@@ -742,7 +800,7 @@ def _coherent_terms(record: OrderStats, baselines: Sequence[OrderStats], masked:
     # round-off: a deterministic simulation repeated with other sensor seeds gives mean
     # spectra equal to ~1e-13 of their amplitude; a difference below 1e-10 of it is none
     num[num <= ROUND_OFF * (np.abs(record.mean[:k]) ** 2 + np.abs(b_mean) ** 2)] = 0.0
-    den = between * (1.0 + 1.0 / big_m) + pooled * (1.0 / record.n + inv_n / big_m)
+    den = between * (1.0 + 1.0 / big_m) + own / record.n + pooled * inv_n / big_m
     if not masked:
         return num, np.where(ok, den, np.nan)
     return num[ok], den[ok]
