@@ -27,6 +27,7 @@ from geardyn.diagnosis.isolation import (
     ARRAY_CANCELLED,
     Evidence,
     band_energy_share,
+    bearing_line_shares,
     coherent_evidence,
     coherent_sdr,
     comb_mask,
@@ -280,6 +281,30 @@ def test_band_energy_share_rises_with_the_fault_lines_only():
     fallen = rec.copy()
     fallen[int(round(7.0 / 0.1))] = 0.0
     assert band_energy_share(o, fallen, 4.63) >= band_energy_share(o, rec, 4.63)
+
+
+def test_bearing_line_shares_leave_out_the_bins_another_bearing_shares():
+    """Bearing A's BPFO at order 3.0 spalled (strong comb), bearing B's BPFO at 4.5: their
+    combs meet at 9, 18, 27, 36. B's share without A's bins stays at its healthy value
+    however strong A's comb, while with them it rises; an identical bearing C (same line as
+    B) is the same hypothesis and keeps every bin of its comb; A's own share rises."""
+    o = np.arange(0, 40, 0.1)
+    healthy = np.ones_like(o)
+    spalled = healthy.copy()
+    for k in range(1, 14):
+        spalled[int(round(k * 3.0 / 0.1))] += 30.0
+    bearings = [SimpleNamespace(name=n, fault_orders={"BPFO": f})
+                for n, f in (("A", 3.0), ("B", 4.5), ("C", 4.5))]
+    h = bearing_line_shares(o, healthy, bearings)
+    f = bearing_line_shares(o, spalled, bearings)
+    assert f[("A", "BPFO")] > 5 * h[("A", "BPFO")]
+    total_h, total_f = np.sum(healthy**2), np.sum(spalled**2)
+    assert f[("B", "BPFO")] == pytest.approx(h[("B", "BPFO")] * total_h / total_f, rel=1e-12)
+    assert band_energy_share(o, spalled, 4.5) > 4 * band_energy_share(o, healthy, 4.5)
+    assert f[("C", "BPFO")] == f[("B", "BPFO")]
+    shared = comb_mask(o, 3.0, o[-1])
+    assert np.isclose(h[("B", "BPFO")] * total_h,
+                      np.sum(healthy[comb_mask(o, 4.5, o[-1]) & ~shared] ** 2))
 
 
 def test_posterior_closed_form():

@@ -940,24 +940,56 @@ def comb_mask(orders: np.ndarray, line: float, top: float) -> np.ndarray:
 
 
 def band_energy_share(orders: np.ndarray, spectrum: np.ndarray, line: float,
-                      order_max: float | None = None) -> float:
+                      order_max: float | None = None,
+                      exclude: np.ndarray | None = None) -> float:
     """Fault-band energy share of a squared-envelope spectrum: ``Σ S²`` over the line's
     comb (:func:`comb_mask`) divided by ``Σ S²`` over the whole band up to ``order_max``
     (MathWorks ``faultBandMetrics``' total band power, as a fraction, so that a sensitivity
-    or transfer-path gain cancels)."""
+    or transfer-path gain cancels). ``exclude``: bins left out of the comb (another
+    bearing's lines, :func:`bearing_line_shares`); NaN when no bin is left."""
     o = np.asarray(orders, float)
     s = np.asarray(spectrum, float)
     top = float(o[-1]) if order_max is None else min(float(order_max), float(o[-1]))
     inside = o <= top
     total = float(np.sum(s[inside] ** 2))
     comb = comb_mask(o, line, top) & inside
+    if exclude is not None:
+        comb &= ~np.asarray(exclude, bool)
     return float(np.sum(s[comb] ** 2)) / total if total > 0 and comb.any() else math.nan
+
+
+def bearing_line_shares(orders: np.ndarray, spectrum: np.ndarray, bearings: Sequence,
+                        order_max: float | None = None) -> dict[tuple[str, str], float]:
+    """(bearing, line) → fault-band energy share (:func:`band_energy_share`) of every line of
+    every bearing (``Component`` s with ``fault_orders``) in one squared-envelope spectrum,
+    each comb without the bins of the other bearings' impact lines
+    (:data:`AMBIGUOUS_BEARING_LINES`): a harmonic of another bearing's line within ±1 bin of
+    this one's is evidence for either, and a spalled bearing's strong comb would otherwise
+    raise every other bearing's share wherever their harmonics meet (the bearings' analogue
+    of :func:`ambiguous_orders`). A line equal to this one (an identical bearing on the same
+    shaft) is the same hypothesis and is not left out."""
+    o = np.asarray(orders, float)
+    s = np.asarray(spectrum, float)
+    top = float(o[-1]) if order_max is None else min(float(order_max), float(o[-1]))
+    lines = [(c.name, line, float(f)) for c in bearings for line, f in c.fault_orders.items()]
+    combs = {(n, line): comb_mask(o, f, top) for n, line, f in lines
+             if line in AMBIGUOUS_BEARING_LINES and np.isfinite(f)}
+    out: dict[tuple[str, str], float] = {}
+    for name, line, f in lines:
+        other = np.zeros(o.size, bool)
+        for n2, l2, f2 in lines:
+            if (n2, l2) in combs and n2 != name and not (
+                    np.isfinite(f) and abs(f2 - f) <= 1e-9 * abs(f)):
+                other |= combs[(n2, l2)]
+        out[(name, line)] = band_energy_share(o, s, f, order_max, exclude=other)
+    return out
 
 
 def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
                      order_max: float | None = None,
                      runs: Sequence[object] | None = None) -> dict[str, Evidence]:
-    """Per bearing, the fault-band energy share (:func:`band_energy_share`) of each of its
+    """Per bearing, the fault-band energy share (:func:`bearing_line_shares`: without the
+    other bearings' lines) of each of its
     lines (BPFO, BPFI, BSF, FTF) in the record's squared-envelope spectrum against the same
     share in every baseline member (:func:`evidence_from_null`, ``runs``: the dynamic run of
     each member); the bearing's evidence is its line with the largest score. Each line is one
@@ -966,20 +998,21 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
     comps = getattr(record, "components", None)
     if spec is None or comps is None:
         return {}
-    o = np.asarray(spec["order"].values, float)
     base = []
     for b in baselines:
         s = getattr(b, "envelope_spectrum", None)
         if s is None:
             return {}
-        base.append((np.asarray(s["order"].values, float), np.asarray(s.values, float)))
+        base.append(bearing_line_shares(np.asarray(s["order"].values, float),
+                                        np.asarray(s.values, float), comps.bearings, order_max))
+    rec = bearing_line_shares(np.asarray(spec["order"].values, float),
+                              np.asarray(spec.values, float), comps.bearings, order_max)
     out: dict[str, Evidence] = {}
     for c in comps.bearings:
-        for line, f in c.fault_orders.items():
-            value = band_energy_share(o, np.asarray(spec.values, float), f, order_max)
-            null = [band_energy_share(bo, bs, f, order_max) for bo, bs in base]
-            ev = evidence_from_null(c.name, f"{line} band energy", value, null, alpha,
-                                    group=c.name, runs=runs)
+        for line in c.fault_orders:
+            null = [b.get((c.name, line), math.nan) for b in base]
+            ev = evidence_from_null(c.name, f"{line} band energy", rec[(c.name, line)], null,
+                                    alpha, group=c.name, runs=runs)
             best = out.get(c.name)
             if best is None or (np.isfinite(ev.z) and not ev.z <= best.z):
                 out[c.name] = ev

@@ -118,9 +118,9 @@ def _judgeable(feats: Any) -> dict[str, Any]:
     """Whole own revolutions of every rotating component in the analysed record (0: left out
     for less than one; the TSA attribute ``revolutions``) and the fault-band energy share of
     every bearing line in the squared-envelope spectrum (:func:`geardyn.diagnosis.isolation.
-    band_energy_share`, the bearings' isolation evidence), per component."""
+    bearing_line_shares`, the bearings' isolation evidence), per component."""
     from geardyn.diagnosis.components import BEARING_LINES
-    from geardyn.diagnosis.isolation import ROTATING, band_energy_share
+    from geardyn.diagnosis.isolation import ROTATING, bearing_line_shares
 
     comps = feats.components
     if comps is None:
@@ -138,10 +138,11 @@ def _judgeable(feats: Any) -> dict[str, Any]:
         o = np.asarray(spec["order"].values, float)
         s = np.asarray(spec.values, float)
         share = np.full((len(comps.bearings), len(lines)), np.nan)
+        shares = bearing_line_shares(o, s, comps.bearings)
         for k, c in enumerate(comps.bearings):
-            for line, f in c.fault_orders.items():
+            for line in c.fault_orders:
                 if line in lines:
-                    share[k, lines.index(line)] = band_energy_share(o, s, f)
+                    share[k, lines.index(line)] = shares[(c.name, line)]
         out["band_energy"] = (share, {}, ["component", "bearing_line"],
                               {"component": [c.name for c in comps.bearings],
                                "bearing_line": lines})
