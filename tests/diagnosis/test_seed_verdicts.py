@@ -107,6 +107,21 @@ def test_seed004_crack_is_localised(seed004, gear, expected):
     assert set(v.alarms) == expected
 
 
+def test_seed004_sun_and_ring_domains_keep_the_orders_their_planets_carry(seed004):
+    """Three equally spaced planets: a sun or ring tooth fault repeats at each planet
+    (McFadden 1991), so only orders that are multiples of 3 can carry it; the others are left
+    out of the sun's and the ring's comparison, not of the planets' or the carrier's."""
+    import numpy as np
+
+    b = seed004.blocks[0]
+    for member in ("planetary.sun", "planetary.ring"):
+        mask = b.ambiguous[b.of[member]]
+        o = np.arange(mask.size)
+        assert mask[o % 3 != 0].all() and not mask[o % 3 == 0].all(), member
+    planets = b.ambiguous[b.of["planetary.planet1/z32"]]
+    assert not planets[np.arange(planets.size) % 3 != 0].all()
+
+
 @pytest.mark.parametrize("seed", [101, 102, 103])
 def test_seed004_healthy_raises_no_alarm(seed004, seed):
     v = seed004.verdict(seed004.healthy, seed=seed)
