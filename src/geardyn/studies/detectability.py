@@ -410,6 +410,16 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
     lines += ["", "False alarms by machine (report half):", ""]
     for m, r in sorted(rep["false_alarm_by_machine"].items()):
         lines.append(f"* {m}: {_ci(r)}")
+    fa = rows[(rows["half"] == "report") & (rows["fault_type"] == "healthy")
+              & rows["detected"].map(_true)]
+    if len(fa):
+        lines += ["", "The false alarms (report half): the first alarm and its margin "
+                  "(value / threshold)", ""]
+        for _, r in fa.iterrows():
+            lines.append(f"* {r.get('config', '')} {r.get('record', '')} (seed "
+                         f"{r.get('seed', '')}): {r.get('first_alarm', '')} "
+                         f"{float(r.get('first_margin', math.nan)):.2f}, verdict "
+                         f"{r.get('verdict', '')}")
     failed = rows[rows["status"] != "ok"]
     reasons = failed.groupby("status")["config"].agg(lambda c: sorted(set(c)))
     lines += ["", "## Limitations of this run", "",
@@ -417,7 +427,7 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
               f"seed drawn from {FLEET_SEED} and the configuration); the healthy records of one "
               "configuration share its operating point and sensor, so they are not independent "
               "of each other: the false-alarm interval treats them as if they were.",
-              "* Failed runs (kept as rows, not judged):"]
+              "* Failed runs (kept as rows, not judged):" + ("" if len(reasons) else " none.")]
     for reason, confs in reasons.items():
         lines.append(f"  {int((failed['status'] == reason).sum())} × `{reason[:100]}` "
                      f"({', '.join(confs)})")
