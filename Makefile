@@ -40,9 +40,11 @@ first-run:
 		&& rm -f $(VENV)/.warm-* && touch $(WARM); rm -f $(VENV)/.warming) & }
 	$(BIN)/geardyn demo
 
+# One pytest worker per core (pytest-xdist), a test file per worker at a time (module fixtures
+# such as the simulated baselines are built once).
 test: $(WARM)
 	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n auto --dist loadfile
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
