@@ -110,7 +110,7 @@ def modal_basis(M: np.ndarray, K_lin: np.ndarray, C: np.ndarray
     return w2, phi, c, float(np.max(np.abs(off))) / scale if off.size else 0.0
 
 
-@njit(cache=True, fastmath={"reassoc", "contract"})
+@njit(cache=True, _nrt=False, fastmath={"reassoc", "contract"})
 def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compiled
     """q[ports] = Φ_P η; v[ports[:nv]] = Φ_P η̇ on the first ``nv`` ports (those whose
     velocity the kernels read): dot products of the rows of ``Phi`` = Φ_P (p × n, contiguous
@@ -172,7 +172,7 @@ def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compile
         i += 1
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi, pm
                  ):  # pragma: no cover - compiled
     """f = F_ext + F_conn(q, v) + J q on the ports (J in CSR over the port positions);
@@ -185,7 +185,7 @@ def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, j
     _project(q, f, ports, jdat, jidx, jptr, Phi, pm)
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, _nrt=False, fastmath={"contract"})
 def _project(q, f, ports, jdat, jidx, jptr, Phi, pm):  # pragma: no cover - compiled
     """f_P += J_PP q_P (J in CSR: row k lists its columns), then pm = Φ_Pᵀ f_P."""
     p = ports.size
@@ -212,7 +212,7 @@ def _project(q, f, ports, jdat, jidx, jptr, Phi, pm):  # pragma: no cover - comp
         i += 1
 
 
-@njit(cache=True, fastmath={"reassoc", "contract"})
+@njit(cache=True, _nrt=False, fastmath={"reassoc", "contract"})
 def _record_dense(rec, ir, t, td, j, cd, eta, deta, pm, p0, p1, Phr, bl0, bl1, mf0, mf1, w,
                   nd, nb, nm, ea, eb):  # pragma: no cover - compiled
     """Row ``ir`` at time t inside a step: the exact modal state at that time under the step's
@@ -243,7 +243,7 @@ def _record_dense(rec, ir, t, td, j, cd, eta, deta, pm, p0, p1, Phr, bl0, bl1, m
         rec[ir, 2 + 2 * nd + 3 * nb + i] = (1.0 - w) * mf0[i] + w * mf1[i]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _damping_power(cdamp, deta):  # pragma: no cover - compiled
     """Σ c_j η̇_j² (four partial sums: no serial chain)."""
     a0 = a1 = a2 = a3 = 0.0
