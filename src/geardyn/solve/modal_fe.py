@@ -173,26 +173,31 @@ def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compile
 
 
 @njit(cache=True, _nrt=False)
-def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi, pm
-                 ):  # pragma: no cover - compiled
+def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi, pm,
+                 qp):  # pragma: no cover - compiled
     """f = F_ext + F_conn(q, v) + J q on the ports (J in CSR over the port positions);
-    ``pm`` = Φ_Pᵀ f_P (modal forces); diss: dissipation powers of the kernels (reset)."""
+    ``pm`` = Φ_Pᵀ f_P (modal forces); diss: dissipation powers of the kernels (reset);
+    ``qp``: work array (ports)."""
     for i in range(ports.size):
         f[ports[i]] = fext[ports[i]]
     diss[:] = 0.0
     bearing_forces(q, v, f, diss, *bargs, bl)
     mesh_forces(q, v, f, diss, *margs, mf)
-    _project(q, f, ports, jdat, jidx, jptr, Phi, pm)
+    _project(q, f, ports, jdat, jidx, jptr, Phi, pm, qp)
 
 
 @njit(cache=True, _nrt=False, fastmath={"contract"})
-def _project(q, f, ports, jdat, jidx, jptr, Phi, pm):  # pragma: no cover - compiled
-    """f_P += J_PP q_P (J in CSR: row k lists its columns), then pm = Φ_Pᵀ f_P."""
+def _project(q, f, ports, jdat, jidx, jptr, Phi, pm, qp):  # pragma: no cover - compiled
+    """f_P += J_PP q_P (J in CSR: row k lists its columns, unsigned: no negative-index
+    wrap-around), then pm = Φ_Pᵀ f_P; ``qp`` receives q_P (one gather, then single
+    indirections)."""
     p = ports.size
+    for k in range(p):
+        qp[k] = q[ports[k]]
     for k in range(p):  # a gather per row: no chain of scattered updates
         s = 0.0
         for e in range(jptr[k], jptr[k + 1]):
-            s += jdat[e] * q[ports[jidx[e]]]
+            s += jdat[e] * qp[jidx[e]]
         f[ports[k]] += s
     pm[:] = 0.0
     i = 0
@@ -278,27 +283,58 @@ def run_chunk(
     ports (at the state where the forces were evaluated), fext, diss, bl, mf, energy,
     sc = [t, ∫e, T_d, modal damping power]. Record columns as
     :func:`geardyn.solve.explicit.run_chunk`. Returns (tick reached, status 0 ok / 1 diverged
-    while advancing from that tick)."""
+    while advancing from that tick).
+
+    The work arrays are allocated here; the steps run in :func:`_steps` (no reference
+    counting), the modal state in two buffers (start and end of a step) and the modal forces
+    in three (previous, current, next), used in rotation instead of copied."""
     n = eta.size
+    E = np.empty((2, n))
+    DE = np.empty((2, n))
+    P = np.empty((3, n))
+    E[0] = eta
+    DE[0] = deta
+    P[0] = pprev
+    P[1] = p0
+    buf = np.empty((REC_BLOCK, rec.shape[1]))
+    tick, code, last = _steps(
+        E, DE, P, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K, rec, cf, cd,
+        cdamp, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs, drive_dof,
+        load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp,
+        np.zeros(q.size), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(bl.shape),
+        np.zeros(mf.size), np.zeros(energy.size), np.zeros(energy.size), np.zeros(0), buf,
+        np.zeros(ports.size))
+    eta[:] = E[last % 2]
+    deta[:] = DE[last % 2]
+    pprev[:] = P[last % 3]
+    p0[:] = P[(last + 1) % 3]
+    return tick, code
+
+
+@njit(cache=True, _nrt=False)
+def _flush(rec, r0, buf, nbuf):  # pragma: no cover - compiled
+    """rec[r0 : r0 + nbuf] = buf[:nbuf] (element by element: no temporary)."""
+    for r in range(nbuf):
+        for c in range(buf.shape[1]):
+            rec[r0 + r, c] = buf[r, c]
+
+
+@njit(cache=True, _nrt=False)
+def _steps(
+    E, DE, P, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K, rec, cf, cd,
+    cdamp, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs, drive_dof, load_dof,
+    ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp,
+    f, ph, ea, eb, bl0, mf0, pw0, pw1, empty, buf, qp,
+):  # pragma: no cover - compiled
+    """The steps of :func:`run_chunk`: step s reads the modal state from ``E[s % 2]``,
+    ``DE[s % 2]`` and writes the end state to the other row; the modal forces of the previous
+    and current step are ``P[s % 3]``, ``P[(s + 1) % 3]``, the evaluated ones go to
+    ``P[(s + 2) % 3]``. Returns (tick reached, status, steps taken)."""
+    n = E.shape[1]
     dt = m * u
     nb = bl.shape[0]
     nm = mf.size
     nd = rec_dofs.size
-    f = np.zeros(q.size)
-    p1 = np.zeros(n)
-    ph = np.zeros(n)
-    e0 = np.zeros(n)
-    de0 = np.zeros(n)
-    ea = np.zeros(n)
-    eb = np.zeros(n)
-    pm0 = np.zeros(n)
-    pp0 = np.zeros(n)
-    bl0 = np.zeros(bl.shape)
-    mf0 = np.zeros(nm)
-    pw0 = np.zeros(energy.size)
-    pw1 = np.zeros(energy.size)
-    empty = np.zeros(0)
-    buf = np.empty((REC_BLOCK, rec.shape[1]))
     r0 = 0
     nbuf = 0
     t = sc[0]
@@ -308,34 +344,46 @@ def run_chunk(
     dense = False
     for s in range(nsteps):
         tick = tick0 + s * m
+        ia = s % 2  # start state
+        ib = 1 - ia  # end state
+        ip = s % 3  # modal forces: previous step
+        i0 = (s + 1) % 3  # current step
+        i1 = (s + 2) % 3  # evaluated at the end of this step
+        eta = E[ib]
+        deta = DE[ib]
+        p1 = P[i1]
         if tick % K == 0:
             if nbuf == 0:
                 r0 = tick // K
             record(buf, nbuf, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm)
             nbuf += 1
             if nbuf == REC_BLOCK:
-                rec[r0 : r0 + nbuf, :] = buf
+                _flush(rec, r0, buf, nbuf)
                 nbuf = 0
-        # a record falls inside this step: keep the start state for the dense output
+        # a record falls inside this step: keep the start loads for the dense output (the
+        # modal start state stays in its buffer)
         dense = m > 1 and (tick // K) != ((tick + m - 1) // K)
         if dense:
-            e0[:] = eta
-            de0[:] = deta
-            pm0[:] = pprev
-            pp0[:] = p0
-            bl0[:, :] = bl
-            mf0[:] = mf
+            for i in range(nb):
+                for c in range(3):
+                    bl0[i, c] = bl[i, c]
+            for i in range(nm):
+                mf0[i] = mf[i]
         td0 = td
-        step_powers(fext, v, diss, empty, drive_dof, load_dof, pw0)
-        pw0[E_MODAL] = pd0  # the modal damping's power (its dissipation is not a kernel's)
+        if s == 0:
+            step_powers(fext, v, diss, empty, drive_dof, load_dof, pw0)
+            pw0[E_MODAL] = pd0  # the modal damping's power (its dissipation is not a kernel's)
+        else:  # the previous step's end powers (same state, same arrays)
+            for c in range(pw0.size):
+                pw0[c] = pw1[c]
         # predictor: exact modal step, the hold's end value extrapolated linearly
         for j in range(n):
-            pm = pprev[j]
-            pj = p0[j]
+            pm = P[ip, j]
+            pj = P[i0, j]
             pe = 2.0 * pj - pm
             ph[j] = pe
-            e = eta[j]
-            d = deta[j]
+            e = E[ia, j]
+            d = DE[ia, j]
             eta[j] = (cf[0, 0, j] * e + cf[0, 1, j] * d + cf[0, 2, j] * pm + cf[0, 3, j] * pj
                       + cf[0, 4, j] * pe)
             deta[j] = (cf[1, 0, j] * e + cf[1, 1, j] * d + cf[1, 2, j] * pm + cf[1, 3, j] * pj
@@ -348,14 +396,12 @@ def run_chunk(
         td = t0_drive + kp * err + ki * integ
         fext[drive_dof] = drive_sign * td
         _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi,
-                     p1)
+                     p1, qp)
         # corrector: the hold's end value is the evaluated force
         for j in range(n):
             dp = p1[j] - ph[j]
             eta[j] += cf[0, 4, j] * dp
             deta[j] += cf[1, 4, j] * dp
-            pprev[j] = p0[j]
-            p0[j] = p1[j]
         if dense:
             for jt in range(1, m):
                 if (tick + jt) % K == 0:
@@ -363,11 +409,11 @@ def run_chunk(
                         r0 = (tick + jt) // K
                     w = jt / m
                     _record_dense(buf, nbuf, (tick + jt) * u, (1.0 - w) * td0 + w * td, jt - 1,
-                                  cd, e0, de0, pm0, pp0, p1, Phr, bl0, bl, mf0, mf, w, nd, nb,
-                                  nm, ea, eb)
+                                  cd, E[ia], DE[ia], P[ip], P[i0], p1, Phr, bl0, bl, mf0, mf,
+                                  w, nd, nb, nm, ea, eb)
                     nbuf += 1
                     if nbuf == REC_BLOCK:
-                        rec[r0 : r0 + nbuf, :] = buf
+                        _flush(rec, r0, buf, nbuf)
                         nbuf = 0
         pd1 = _damping_power(cdamp, deta)
         ok = math.isfinite(pd1)
@@ -385,10 +431,10 @@ def run_chunk(
         sc[3] = pd1
         sc[5] += 1.0
         if not ok:
-            rec[r0 : r0 + nbuf, :] = buf[:nbuf]
-            return tick, 1
-    rec[r0 : r0 + nbuf, :] = buf[:nbuf]
-    return tick0 + nsteps * m, 0
+            _flush(rec, r0, buf, nbuf)
+            return tick, 1, s + 1
+    _flush(rec, r0, buf, nbuf)
+    return tick0 + nsteps * m, 0, nsteps
 
 
 class ModalSetup:
@@ -424,7 +470,7 @@ class ModalSetup:
         r, cc = np.nonzero(Jpp)  # CSR of Jpp: row k lists its columns
         ptr = np.zeros(self.ports.size + 1, np.int64)
         np.add.at(ptr, r + 1, 1)
-        self.J = (Jpp[r, cc].copy(), cc.astype(np.int64), np.cumsum(ptr).astype(np.int64))
+        self.J = (Jpp[r, cc].copy(), cc.astype(np.uint64), np.cumsum(ptr).astype(np.int64))
         self.Phi = np.ascontiguousarray(phi[self.ports, :])
         self.rec_dofs = rd
         self.Phr = np.ascontiguousarray(phi[rd, :])
@@ -522,7 +568,7 @@ def run_loop(
         fext[load_dof] = -load_sign * load_torque
         f = np.zeros(n)
         _port_forces(st["q"], st["v"], f, st["diss"], bargs, margs, st["bl"], st["mf"], fext,
-                     setup.ports, *setup.J, setup.Phi, st["p0"])
+                     setup.ports, *setup.J, setup.Phi, st["p0"], np.zeros(setup.ports.size))
         st["pprev"][:] = st["p0"]
         st["sc"][:] = (0.0, integ0, td, _damping_power(setup.cdamp, st["deta"]), 0.0, 0.0)
         done = 0
@@ -534,14 +580,20 @@ def run_loop(
 
     def advance(start: int, stop: int) -> tuple[int, int]:
         # the step is a function of the tick alone (the schedule over its segment of
-        # SEGMENT_RECORDS records), so the steps do not depend on where chunks end
+        # SEGMENT_RECORDS records), so the steps do not depend on where chunks end;
+        # consecutive segments with the same step run as one compiled call (the same steps)
         tick = start
         while tick < stop and tick < n_ticks:
-            s0 = (tick // seg) * seg
-            m = max(1, int(schedule(s0 * u, min(s0 + seg, n_ticks) * u)))
-            m = min(m, n_ticks - tick)
-            steps = max(1, -(-(min(s0 + seg, stop, n_ticks) - tick) // m))
-            steps = min(steps, (n_ticks - tick) // m)
+            m, steps, t = 0, 0, tick
+            while t < stop and t < n_ticks:
+                s0 = (t // seg) * seg
+                ms = max(1, int(schedule(s0 * u, min(s0 + seg, n_ticks) * u)))
+                ms = min(ms, n_ticks - t)
+                if steps and ms != m:
+                    break
+                k = max(1, -(-(min(s0 + seg, stop, n_ticks) - t) // ms))
+                k = min(k, (n_ticks - t) // ms)
+                m, steps, t = ms, steps + k, t + k * ms
             if m != int(st["sc"][4]) and st["sc"][4] > 0:
                 # the hold's previous value at −h of the new step: on the previous step's line
                 p0, pprev = st["p0"], st["pprev"]
