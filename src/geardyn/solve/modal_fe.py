@@ -289,13 +289,13 @@ def run_chunk(
     counting), the modal state in two buffers (start and end of a step) and the modal forces
     in three (previous, current, next), used in rotation instead of copied."""
     n = eta.size
-    E = np.empty((2, n))
-    DE = np.empty((2, n))
-    P = np.empty((3, n))
-    E[0] = eta
-    DE[0] = deta
-    P[0] = pprev
-    P[1] = p0
+    E = _aligned_rows(2, Phi.shape[1])
+    DE = _aligned_rows(2, Phi.shape[1])
+    P = _aligned_rows(3, Phi.shape[1])
+    E[0, :n] = eta
+    DE[0, :n] = deta
+    P[0, :n] = pprev
+    P[1, :n] = p0
     buf = np.empty((REC_BLOCK, rec.shape[1]))
     tick, code, last = _steps(
         E, DE, P, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K, rec, cf, cd,
@@ -304,11 +304,20 @@ def run_chunk(
         np.zeros(q.size), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(bl.shape),
         np.zeros(mf.size), np.zeros(energy.size), np.zeros(energy.size), np.zeros(0), buf,
         np.zeros(ports.size))
-    eta[:] = E[last % 2]
-    deta[:] = DE[last % 2]
-    pprev[:] = P[last % 3]
-    p0[:] = P[(last + 1) % 3]
+    eta[:] = E[last % 2, :n]
+    deta[:] = DE[last % 2, :n]
+    pprev[:] = P[last % 3, :n]
+    p0[:] = P[(last + 1) % 3, :n]
     return tick, code
+
+
+@njit(cache=True)
+def _aligned_rows(r, npad):  # pragma: no cover - compiled
+    """Zeroed (r, npad) array whose rows start on 64-byte boundaries (``npad`` a multiple
+    of 8): whole-cache-line vector loads."""
+    raw = np.zeros(r * npad + 8)
+    off = ((64 - raw.ctypes.data % 64) % 64) // 8
+    return raw[off : off + r * npad].reshape((r, npad))
 
 
 @njit(cache=True, _nrt=False)
@@ -330,7 +339,7 @@ def _steps(
     ``DE[s % 2]`` and writes the end state to the other row; the modal forces of the previous
     and current step are ``P[s % 3]``, ``P[(s + 1) % 3]``, the evaluated ones go to
     ``P[(s + 2) % 3]``. Returns (tick reached, status, steps taken)."""
-    n = E.shape[1]
+    n = cdamp.size
     dt = m * u
     nb = bl.shape[0]
     nm = mf.size
@@ -349,9 +358,9 @@ def _steps(
         ip = s % 3  # modal forces: previous step
         i0 = (s + 1) % 3  # current step
         i1 = (s + 2) % 3  # evaluated at the end of this step
-        eta = E[ib]
-        deta = DE[ib]
-        p1 = P[i1]
+        eta = E[ib, :n]
+        deta = DE[ib, :n]
+        p1 = P[i1, :n]
         if tick % K == 0:
             if nbuf == 0:
                 r0 = tick // K
@@ -409,8 +418,8 @@ def _steps(
                         r0 = (tick + jt) // K
                     w = jt / m
                     _record_dense(buf, nbuf, (tick + jt) * u, (1.0 - w) * td0 + w * td, jt - 1,
-                                  cd, E[ia], DE[ia], P[ip], P[i0], p1, Phr, bl0, bl, mf0, mf,
-                                  w, nd, nb, nm, ea, eb)
+                                  cd, E[ia, :n], DE[ia, :n], P[ip, :n], P[i0, :n], p1, Phr,
+                                  bl0, bl, mf0, mf, w, nd, nb, nm, ea, eb)
                     nbuf += 1
                     if nbuf == REC_BLOCK:
                         _flush(rec, r0, buf, nbuf)
@@ -471,9 +480,11 @@ class ModalSetup:
         ptr = np.zeros(self.ports.size + 1, np.int64)
         np.add.at(ptr, r + 1, 1)
         self.J = (Jpp[r, cc].copy(), cc.astype(np.uint64), np.cumsum(ptr).astype(np.int64))
-        self.Phi = np.ascontiguousarray(phi[self.ports, :])
+        # rows of Φ_P and Φ_R padded to a multiple of 8 modes and 64-byte aligned: the
+        # projections' vector loads never straddle cache lines (the loops run over the n modes)
+        self.Phi = aligned_rows(phi[self.ports, :])
         self.rec_dofs = rd
-        self.Phr = np.ascontiguousarray(phi[rd, :])
+        self.Phr = aligned_rows(phi[rd, :])
         self.tick = float(tick_s)
         self.M = M
         self._coefficients: dict[int, tuple[np.ndarray, np.ndarray]] = {}
@@ -488,6 +499,18 @@ class ModalSetup:
                            for j in range(1, max(2, m))])
             self._coefficients[m] = (cf, cd)
         return self._coefficients[m]
+
+
+def aligned_rows(a: np.ndarray) -> np.ndarray:
+    """``a`` (r × n) in a zero-padded (r × 8⌈n/8⌉) array whose rows start on 64-byte
+    boundaries."""
+    r, n = a.shape
+    npad = -(-n // 8) * 8
+    raw = np.zeros(r * npad + 8)
+    off = (-raw.ctypes.data % 64) // 8
+    out = raw[off : off + r * npad].reshape(r, npad)
+    out[:, :n] = a
+    return out
 
 
 def port_dofs(model, extra: list[int]) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
