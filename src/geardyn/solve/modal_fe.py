@@ -43,7 +43,7 @@ import numpy as np
 from numba import njit
 
 from geardyn.errors import InputError
-from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+from geardyn.models.transmission.kernels import bearing_forces, mesh_forces_lanes
 from geardyn.solve.control import RunControl, drive_chunks
 from geardyn.solve.explicit import (
     E_MODAL,
@@ -182,7 +182,7 @@ def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, j
         f[ports[i]] = fext[ports[i]]
     diss[:] = 0.0
     bearing_forces(q, v, f, diss, *bargs, bl)
-    mesh_forces(q, v, f, diss, *margs, mf)
+    mesh_forces_lanes(q, v, f, diss, *margs, mf)
     _project(q, f, ports, jdat, jidx, jptr, Phi, pm, qp)
 
 
@@ -397,7 +397,9 @@ def _steps(
                       + cf[0, 4, j] * pe)
             deta[j] = (cf[1, 0, j] * e + cf[1, 1, j] * d + cf[1, 2, j] * pm + cf[1, 3, j] * pj
                        + cf[1, 4, j] * pe)
-        _ports_state(Phi, nv, eta, deta, ports, q, v)
+        # the port state and the modal forces over the padded rows (zeros past the n modes):
+        # loops of whole vectors, no remainder
+        _ports_state(Phi, nv, E[ib], DE[ib], ports, q, v)
         t = (tick + m) * u
         wr = _interp(t, t_ref, w_ref)
         err = wr - ref_sign_speed(v, ref_dof, ref_sign)
@@ -405,7 +407,7 @@ def _steps(
         td = t0_drive + kp * err + ki * integ
         fext[drive_dof] = drive_sign * td
         _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi,
-                     p1, qp)
+                     P[i1], qp)
         # corrector: the hold's end value is the evaluated force
         for j in range(n):
             dp = p1[j] - ph[j]
