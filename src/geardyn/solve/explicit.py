@@ -364,7 +364,7 @@ def _accel(q, v, t, Minv, K, C, fext, f, diss, bargs, margs, bl, mf, gargs, fx, 
             break
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def step_powers(fext, v, diss, fx, drive_dof, load_dof, pw):  # pragma: no cover - compiled
     """The powers of the energy channels at one instant into ``pw`` (channels ``E_IN`` …
     ``E_EXT``): input and output at the drive and load, the dissipation powers ``diss``, the
@@ -376,7 +376,7 @@ def step_powers(fext, v, diss, fx, drive_dof, load_dof, pw):  # pragma: no cover
     pw[E_EXT] = _dot(fx, v)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def book_energy(energy, dt, pw0, pw1):  # pragma: no cover - compiled
     """energy += trapezoid of each channel's power over a step dt (start ``pw0``, end
     ``pw1``, :func:`step_powers`)."""
@@ -490,7 +490,7 @@ def run_chunk(
     return step1, 0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def record(rec, ir, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm):  # pragma: no cover
     """Row ``ir`` of the records (columns: see :func:`run_chunk`)."""
     rec[ir, 0] = t
@@ -505,7 +505,7 @@ def record(rec, ir, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm):  # pragma: no co
         rec[ir, 2 + 2 * nd + 3 * nb + j] = mf[j]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _interp(x, xp, fp):  # pragma: no cover - compiled
     """np.interp of a scalar (same formula, no array temporaries): ``xp`` ascending."""
     n = xp.size
@@ -522,7 +522,7 @@ def _interp(x, xp, fp):  # pragma: no cover - compiled
     return slope * (x - xp[j]) + fp[j]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def ref_sign_speed(v, ref_dof, sign):  # pragma: no cover - compiled
     return sign * v[ref_dof]
 

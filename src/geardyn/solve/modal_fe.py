@@ -43,7 +43,7 @@ import numpy as np
 from numba import njit
 
 from geardyn.errors import InputError
-from geardyn.models.transmission.kernels import bearing_forces, mesh_forces
+from geardyn.models.transmission.kernels import bearing_forces, mesh_forces_lanes
 from geardyn.solve.control import RunControl, drive_chunks
 from geardyn.solve.explicit import (
     E_MODAL,
@@ -110,7 +110,7 @@ def modal_basis(M: np.ndarray, K_lin: np.ndarray, C: np.ndarray
     return w2, phi, c, float(np.max(np.abs(off))) / scale if off.size else 0.0
 
 
-@njit(cache=True, fastmath={"reassoc", "contract"})
+@njit(cache=True, _nrt=False, fastmath={"reassoc", "contract"})
 def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compiled
     """q[ports] = Φ_P η; v[ports[:nv]] = Φ_P η̇ on the first ``nv`` ports (those whose
     velocity the kernels read): dot products of the rows of ``Phi`` = Φ_P (p × n, contiguous
@@ -172,27 +172,32 @@ def _ports_state(Phi, nv, eta, deta, ports, q, v):  # pragma: no cover - compile
         i += 1
 
 
-@njit(cache=True)
-def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi, pm
-                 ):  # pragma: no cover - compiled
+@njit(cache=True, _nrt=False)
+def _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi, pm,
+                 qp):  # pragma: no cover - compiled
     """f = F_ext + F_conn(q, v) + J q on the ports (J in CSR over the port positions);
-    ``pm`` = Φ_Pᵀ f_P (modal forces); diss: dissipation powers of the kernels (reset)."""
+    ``pm`` = Φ_Pᵀ f_P (modal forces); diss: dissipation powers of the kernels (reset);
+    ``qp``: work array (ports)."""
     for i in range(ports.size):
         f[ports[i]] = fext[ports[i]]
     diss[:] = 0.0
     bearing_forces(q, v, f, diss, *bargs, bl)
-    mesh_forces(q, v, f, diss, *margs, mf)
-    _project(q, f, ports, jdat, jidx, jptr, Phi, pm)
+    mesh_forces_lanes(q, v, f, diss, *margs, mf)
+    _project(q, f, ports, jdat, jidx, jptr, Phi, pm, qp)
 
 
-@njit(cache=True, fastmath={"contract"})
-def _project(q, f, ports, jdat, jidx, jptr, Phi, pm):  # pragma: no cover - compiled
-    """f_P += J_PP q_P (J in CSR: row k lists its columns), then pm = Φ_Pᵀ f_P."""
+@njit(cache=True, _nrt=False, fastmath={"contract"})
+def _project(q, f, ports, jdat, jidx, jptr, Phi, pm, qp):  # pragma: no cover - compiled
+    """f_P += J_PP q_P (J in CSR: row k lists its columns, unsigned: no negative-index
+    wrap-around), then pm = Φ_Pᵀ f_P; ``qp`` receives q_P (one gather, then single
+    indirections)."""
     p = ports.size
+    for k in range(p):
+        qp[k] = q[ports[k]]
     for k in range(p):  # a gather per row: no chain of scattered updates
         s = 0.0
         for e in range(jptr[k], jptr[k + 1]):
-            s += jdat[e] * q[ports[jidx[e]]]
+            s += jdat[e] * qp[jidx[e]]
         f[ports[k]] += s
     pm[:] = 0.0
     i = 0
@@ -212,7 +217,7 @@ def _project(q, f, ports, jdat, jidx, jptr, Phi, pm):  # pragma: no cover - comp
         i += 1
 
 
-@njit(cache=True, fastmath={"reassoc", "contract"})
+@njit(cache=True, _nrt=False, fastmath={"reassoc", "contract"})
 def _record_dense(rec, ir, t, td, j, cd, eta, deta, pm, p0, p1, Phr, bl0, bl1, mf0, mf1, w,
                   nd, nb, nm, ea, eb):  # pragma: no cover - compiled
     """Row ``ir`` at time t inside a step: the exact modal state at that time under the step's
@@ -243,7 +248,7 @@ def _record_dense(rec, ir, t, td, j, cd, eta, deta, pm, p0, p1, Phr, bl0, bl1, m
         rec[ir, 2 + 2 * nd + 3 * nb + i] = (1.0 - w) * mf0[i] + w * mf1[i]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _damping_power(cdamp, deta):  # pragma: no cover - compiled
     """Σ c_j η̇_j² (four partial sums: no serial chain)."""
     a0 = a1 = a2 = a3 = 0.0
@@ -278,27 +283,67 @@ def run_chunk(
     ports (at the state where the forces were evaluated), fext, diss, bl, mf, energy,
     sc = [t, ∫e, T_d, modal damping power]. Record columns as
     :func:`geardyn.solve.explicit.run_chunk`. Returns (tick reached, status 0 ok / 1 diverged
-    while advancing from that tick)."""
+    while advancing from that tick).
+
+    The work arrays are allocated here; the steps run in :func:`_steps` (no reference
+    counting), the modal state in two buffers (start and end of a step) and the modal forces
+    in three (previous, current, next), used in rotation instead of copied."""
     n = eta.size
+    E = _aligned_rows(2, Phi.shape[1])
+    DE = _aligned_rows(2, Phi.shape[1])
+    P = _aligned_rows(3, Phi.shape[1])
+    E[0, :n] = eta
+    DE[0, :n] = deta
+    P[0, :n] = pprev
+    P[1, :n] = p0
+    buf = np.empty((REC_BLOCK, rec.shape[1]))
+    tick, code, last = _steps(
+        E, DE, P, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K, rec, cf, cd,
+        cdamp, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs, drive_dof,
+        load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp,
+        np.zeros(q.size), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(bl.shape),
+        np.zeros(mf.size), np.zeros(energy.size), np.zeros(energy.size), np.zeros(0), buf,
+        np.zeros(ports.size))
+    eta[:] = E[last % 2, :n]
+    deta[:] = DE[last % 2, :n]
+    pprev[:] = P[last % 3, :n]
+    p0[:] = P[(last + 1) % 3, :n]
+    return tick, code
+
+
+@njit(cache=True)
+def _aligned_rows(r, npad):  # pragma: no cover - compiled
+    """Zeroed (r, npad) array whose rows start on 64-byte boundaries (``npad`` a multiple
+    of 8): whole-cache-line vector loads."""
+    raw = np.zeros(r * npad + 8)
+    off = ((64 - raw.ctypes.data % 64) % 64) // 8
+    return raw[off : off + r * npad].reshape((r, npad))
+
+
+@njit(cache=True, _nrt=False)
+def _flush(rec, r0, buf, nbuf):  # pragma: no cover - compiled
+    """rec[r0 : r0 + nbuf] = buf[:nbuf] (element by element: no temporary)."""
+    for r in range(nbuf):
+        for c in range(buf.shape[1]):
+            rec[r0 + r, c] = buf[r, c]
+
+
+@njit(cache=True, _nrt=False)
+def _steps(
+    E, DE, P, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K, rec, cf, cd,
+    cdamp, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs, drive_dof, load_dof,
+    ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp,
+    f, ph, ea, eb, bl0, mf0, pw0, pw1, empty, buf, qp,
+):  # pragma: no cover - compiled
+    """The steps of :func:`run_chunk`: step s reads the modal state from ``E[s % 2]``,
+    ``DE[s % 2]`` and writes the end state to the other row; the modal forces of the previous
+    and current step are ``P[s % 3]``, ``P[(s + 1) % 3]``, the evaluated ones go to
+    ``P[(s + 2) % 3]``. Returns (tick reached, status, steps taken)."""
+    n = cdamp.size
     dt = m * u
     nb = bl.shape[0]
     nm = mf.size
     nd = rec_dofs.size
-    f = np.zeros(q.size)
-    p1 = np.zeros(n)
-    ph = np.zeros(n)
-    e0 = np.zeros(n)
-    de0 = np.zeros(n)
-    ea = np.zeros(n)
-    eb = np.zeros(n)
-    pm0 = np.zeros(n)
-    pp0 = np.zeros(n)
-    bl0 = np.zeros(bl.shape)
-    mf0 = np.zeros(nm)
-    pw0 = np.zeros(energy.size)
-    pw1 = np.zeros(energy.size)
-    empty = np.zeros(0)
-    buf = np.empty((REC_BLOCK, rec.shape[1]))
     r0 = 0
     nbuf = 0
     t = sc[0]
@@ -308,39 +353,53 @@ def run_chunk(
     dense = False
     for s in range(nsteps):
         tick = tick0 + s * m
+        ia = s % 2  # start state
+        ib = 1 - ia  # end state
+        ip = s % 3  # modal forces: previous step
+        i0 = (s + 1) % 3  # current step
+        i1 = (s + 2) % 3  # evaluated at the end of this step
+        eta = E[ib, :n]
+        deta = DE[ib, :n]
+        p1 = P[i1, :n]
         if tick % K == 0:
             if nbuf == 0:
                 r0 = tick // K
             record(buf, nbuf, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm)
             nbuf += 1
             if nbuf == REC_BLOCK:
-                rec[r0 : r0 + nbuf, :] = buf
+                _flush(rec, r0, buf, nbuf)
                 nbuf = 0
-        # a record falls inside this step: keep the start state for the dense output
+        # a record falls inside this step: keep the start loads for the dense output (the
+        # modal start state stays in its buffer)
         dense = m > 1 and (tick // K) != ((tick + m - 1) // K)
         if dense:
-            e0[:] = eta
-            de0[:] = deta
-            pm0[:] = pprev
-            pp0[:] = p0
-            bl0[:, :] = bl
-            mf0[:] = mf
+            for i in range(nb):
+                for c in range(3):
+                    bl0[i, c] = bl[i, c]
+            for i in range(nm):
+                mf0[i] = mf[i]
         td0 = td
-        step_powers(fext, v, diss, empty, drive_dof, load_dof, pw0)
-        pw0[E_MODAL] = pd0  # the modal damping's power (its dissipation is not a kernel's)
+        if s == 0:
+            step_powers(fext, v, diss, empty, drive_dof, load_dof, pw0)
+            pw0[E_MODAL] = pd0  # the modal damping's power (its dissipation is not a kernel's)
+        else:  # the previous step's end powers (same state, same arrays)
+            for c in range(pw0.size):
+                pw0[c] = pw1[c]
         # predictor: exact modal step, the hold's end value extrapolated linearly
         for j in range(n):
-            pm = pprev[j]
-            pj = p0[j]
+            pm = P[ip, j]
+            pj = P[i0, j]
             pe = 2.0 * pj - pm
             ph[j] = pe
-            e = eta[j]
-            d = deta[j]
+            e = E[ia, j]
+            d = DE[ia, j]
             eta[j] = (cf[0, 0, j] * e + cf[0, 1, j] * d + cf[0, 2, j] * pm + cf[0, 3, j] * pj
                       + cf[0, 4, j] * pe)
             deta[j] = (cf[1, 0, j] * e + cf[1, 1, j] * d + cf[1, 2, j] * pm + cf[1, 3, j] * pj
                        + cf[1, 4, j] * pe)
-        _ports_state(Phi, nv, eta, deta, ports, q, v)
+        # the port state and the modal forces over the padded rows (zeros past the n modes):
+        # loops of whole vectors, no remainder
+        _ports_state(Phi, nv, E[ib], DE[ib], ports, q, v)
         t = (tick + m) * u
         wr = _interp(t, t_ref, w_ref)
         err = wr - ref_sign_speed(v, ref_dof, ref_sign)
@@ -348,14 +407,12 @@ def run_chunk(
         td = t0_drive + kp * err + ki * integ
         fext[drive_dof] = drive_sign * td
         _port_forces(q, v, f, diss, bargs, margs, bl, mf, fext, ports, jdat, jidx, jptr, Phi,
-                     p1)
+                     P[i1], qp)
         # corrector: the hold's end value is the evaluated force
         for j in range(n):
             dp = p1[j] - ph[j]
             eta[j] += cf[0, 4, j] * dp
             deta[j] += cf[1, 4, j] * dp
-            pprev[j] = p0[j]
-            p0[j] = p1[j]
         if dense:
             for jt in range(1, m):
                 if (tick + jt) % K == 0:
@@ -363,11 +420,11 @@ def run_chunk(
                         r0 = (tick + jt) // K
                     w = jt / m
                     _record_dense(buf, nbuf, (tick + jt) * u, (1.0 - w) * td0 + w * td, jt - 1,
-                                  cd, e0, de0, pm0, pp0, p1, Phr, bl0, bl, mf0, mf, w, nd, nb,
-                                  nm, ea, eb)
+                                  cd, E[ia, :n], DE[ia, :n], P[ip, :n], P[i0, :n], p1, Phr,
+                                  bl0, bl, mf0, mf, w, nd, nb, nm, ea, eb)
                     nbuf += 1
                     if nbuf == REC_BLOCK:
-                        rec[r0 : r0 + nbuf, :] = buf
+                        _flush(rec, r0, buf, nbuf)
                         nbuf = 0
         pd1 = _damping_power(cdamp, deta)
         ok = math.isfinite(pd1)
@@ -385,10 +442,10 @@ def run_chunk(
         sc[3] = pd1
         sc[5] += 1.0
         if not ok:
-            rec[r0 : r0 + nbuf, :] = buf[:nbuf]
-            return tick, 1
-    rec[r0 : r0 + nbuf, :] = buf[:nbuf]
-    return tick0 + nsteps * m, 0
+            _flush(rec, r0, buf, nbuf)
+            return tick, 1, s + 1
+    _flush(rec, r0, buf, nbuf)
+    return tick0 + nsteps * m, 0, nsteps
 
 
 class ModalSetup:
@@ -424,10 +481,12 @@ class ModalSetup:
         r, cc = np.nonzero(Jpp)  # CSR of Jpp: row k lists its columns
         ptr = np.zeros(self.ports.size + 1, np.int64)
         np.add.at(ptr, r + 1, 1)
-        self.J = (Jpp[r, cc].copy(), cc.astype(np.int64), np.cumsum(ptr).astype(np.int64))
-        self.Phi = np.ascontiguousarray(phi[self.ports, :])
+        self.J = (Jpp[r, cc].copy(), cc.astype(np.uint64), np.cumsum(ptr).astype(np.int64))
+        # rows of Φ_P and Φ_R padded to a multiple of 8 modes and 64-byte aligned: the
+        # projections' vector loads never straddle cache lines (the loops run over the n modes)
+        self.Phi = aligned_rows(phi[self.ports, :])
         self.rec_dofs = rd
-        self.Phr = np.ascontiguousarray(phi[rd, :])
+        self.Phr = aligned_rows(phi[rd, :])
         self.tick = float(tick_s)
         self.M = M
         self._coefficients: dict[int, tuple[np.ndarray, np.ndarray]] = {}
@@ -442,6 +501,18 @@ class ModalSetup:
                            for j in range(1, max(2, m))])
             self._coefficients[m] = (cf, cd)
         return self._coefficients[m]
+
+
+def aligned_rows(a: np.ndarray) -> np.ndarray:
+    """``a`` (r × n) in a zero-padded (r × 8⌈n/8⌉) array whose rows start on 64-byte
+    boundaries."""
+    r, n = a.shape
+    npad = -(-n // 8) * 8
+    raw = np.zeros(r * npad + 8)
+    off = (-raw.ctypes.data % 64) // 8
+    out = raw[off : off + r * npad].reshape(r, npad)
+    out[:, :n] = a
+    return out
 
 
 def port_dofs(model, extra: list[int]) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
@@ -522,7 +593,7 @@ def run_loop(
         fext[load_dof] = -load_sign * load_torque
         f = np.zeros(n)
         _port_forces(st["q"], st["v"], f, st["diss"], bargs, margs, st["bl"], st["mf"], fext,
-                     setup.ports, *setup.J, setup.Phi, st["p0"])
+                     setup.ports, *setup.J, setup.Phi, st["p0"], np.zeros(setup.ports.size))
         st["pprev"][:] = st["p0"]
         st["sc"][:] = (0.0, integ0, td, _damping_power(setup.cdamp, st["deta"]), 0.0, 0.0)
         done = 0
@@ -534,14 +605,20 @@ def run_loop(
 
     def advance(start: int, stop: int) -> tuple[int, int]:
         # the step is a function of the tick alone (the schedule over its segment of
-        # SEGMENT_RECORDS records), so the steps do not depend on where chunks end
+        # SEGMENT_RECORDS records), so the steps do not depend on where chunks end;
+        # consecutive segments with the same step run as one compiled call (the same steps)
         tick = start
         while tick < stop and tick < n_ticks:
-            s0 = (tick // seg) * seg
-            m = max(1, int(schedule(s0 * u, min(s0 + seg, n_ticks) * u)))
-            m = min(m, n_ticks - tick)
-            steps = max(1, -(-(min(s0 + seg, stop, n_ticks) - tick) // m))
-            steps = min(steps, (n_ticks - tick) // m)
+            m, steps, t = 0, 0, tick
+            while t < stop and t < n_ticks:
+                s0 = (t // seg) * seg
+                ms = max(1, int(schedule(s0 * u, min(s0 + seg, n_ticks) * u)))
+                ms = min(ms, n_ticks - t)
+                if steps and ms != m:
+                    break
+                k = max(1, -(-(min(s0 + seg, stop, n_ticks) - t) // ms))
+                k = min(k, (n_ticks - t) // ms)
+                m, steps, t = ms, steps + k, t + k * ms
             if m != int(st["sc"][4]) and st["sc"][4] > 0:
                 # the hold's previous value at −h of the new step: on the previous step's line
                 p0, pprev = st["p0"], st["pprev"]

@@ -22,6 +22,7 @@ from geardyn.elements.disc import disc_gyroscopic, rigid_disc, solid_disc_proper
 from geardyn.errors import ConfigError, InputError
 from geardyn.gears.contact import johnson_modulus
 from geardyn.models.core.assembly import Assembly
+from geardyn.models.transmission.kernels import mesh_work_size
 
 #: DOF labels of an FE shaft node, in the order of :func:`geardyn.elements.beam.timoshenko_element`
 #: (translations x, y, z then rotations θx, θy, θz; m and rad).
@@ -106,7 +107,7 @@ class Meshes:
             self.na, self.nb, self.V, self.nsl, self.tlen, self.npc, self.za, self.s,
             self.xi0, self.ks, self.length, self.rsum, self.rhoa, self.rhob, self.npair,
             self.that, self.mu, self.csf, self.estar, self.gap, self.Vb, self.backlash,
-            np.empty(6 * self.ks.shape[2] + 10 * self.V.shape[1]),  # the kernel's scratch
+            np.empty(mesh_work_size(self.ks.shape[2], self.V.shape[1])),  # kernel scratch
         )
 
 

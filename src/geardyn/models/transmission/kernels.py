@@ -35,12 +35,93 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
 V_REG = 1e-3  # m/s, friction regularisation speed
 
+# The kernels allocate nothing: compiled without the runtime's reference counting (_nrt=False),
+# so a call passes its ~20 array arguments without an atomic increment and decrement each
+# (≈ 11 % of the modal FE step in a profile).
 
-@njit(cache=True)
+
+@intrinsic
+def _sqrt(typingctx, x):  # noqa: ARG001 - numba intrinsic signature
+    """IEEE square root of a float64 as the processor's instruction (llvm.sqrt): math.sqrt
+    compiles to a C library call (for its error handling), whose spills around the call
+    cost more than the root; the value is the same (both correctly rounded)."""
+    sig = types.float64(types.float64)
+
+    def codegen(context, builder, signature, args):  # noqa: ARG001
+        fn = builder.module.declare_intrinsic("llvm.sqrt", [ir.DoubleType()])
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@intrinsic
+def _f2i(typingctx, x):  # noqa: ARG001 - numba intrinsic signature
+    """The bits of a float64 as an int64 (no conversion)."""
+    sig = types.int64(types.float64)
+
+    def codegen(context, builder, signature, args):  # noqa: ARG001
+        return builder.bitcast(args[0], ir.IntType(64))
+
+    return sig, codegen
+
+
+@intrinsic
+def _i2f(typingctx, i):  # noqa: ARG001 - numba intrinsic signature
+    """The float64 with the bits of an int64 (no conversion)."""
+    sig = types.float64(types.int64)
+
+    def codegen(context, builder, signature, args):  # noqa: ARG001
+        return builder.bitcast(args[0], ir.DoubleType())
+
+    return sig, codegen
+
+
+_LN2_HI = 6.93147180369123816490e-01
+_LN2_LO = 1.90821492927058770002e-10
+_LG1 = 6.666666666666735130e-01
+_LG2 = 3.999999999940941908e-01
+_LG3 = 2.857142874366239149e-01
+_LG4 = 2.222219843214978396e-01
+_LG5 = 1.818357216161805012e-01
+_LG6 = 1.531383769920937332e-01
+_LG7 = 1.479819860511658591e-01
+
+
+@njit(inline="always")
+def _log(x):  # pragma: no cover - compiled
+    """ln x of a positive normal float64 within 1 ulp, inline and branch-free (so that a loop
+    of eq 9 Newton iterations vectorises): the argument reduction and minimax polynomial of
+    fdlibm's e_log.c (Sun Microsystems 1993) in the form of musl libc's log.c: x = 2^k (1 + f)
+    with 1 + f in [√2/2, √2), s = f/(2 + f), ln(1 + f) = f − f²/2 + s(f²/2 + R(s²)) with
+    R = Lg1 s² + … + Lg7 s¹⁴, ln 2 in two parts."""
+    u = _f2i(x)
+    hx = (u >> 32) + (0x3FF00000 - 0x3FE6A09E)
+    k = (hx >> 20) - 0x3FF
+    hx = (hx & 0x000FFFFF) + 0x3FE6A09E
+    f = _i2f((hx << 32) | (u & 0xFFFFFFFF)) - 1.0
+    hfsq = 0.5 * f * f
+    s = f / (2.0 + f)
+    z = s * s
+    w = z * z
+    t1 = w * (_LG2 + w * (_LG4 + w * _LG6))
+    t2 = z * (_LG1 + w * (_LG3 + w * (_LG5 + w * _LG7)))
+    dk = float(k)
+    return s * (hfsq + (t2 + t1)) + dk * _LN2_LO - hfsq + f + dk * _LN2_HI
+
+
+@njit(cache=True, _nrt=False)
+def log_inline(x):  # pragma: no cover - compiled
+    """:func:`_log` as a callable (tests)."""
+    return _log(x)
+
+
+@njit(cache=True, _nrt=False)
 def _tanh(x):  # pragma: no cover - compiled
     """math.tanh, without the call where it is ±1 in double precision (|x| ≥ 20): the
     regularised friction and rolling-resistance signs are saturated almost always."""
@@ -51,7 +132,7 @@ def _tanh(x):  # pragma: no cover - compiled
     return math.tanh(x)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def bearing_forces(
     q, v, f, diss,
     b_node, b_type, b_z, b_k, b_a0, b_pd, b_cage, b_dm, b_crr, b_visc, b_kax, b_cax,
@@ -96,10 +177,10 @@ def bearing_forces(
                     red = b_sp_depth[i]
             if b_type[i] == 0:
                 ar = b_a0[i] - 0.5 * b_pd[i] + ur
-                a = math.sqrt(ar * ar + uz * uz)
+                a = _sqrt(ar * ar + uz * uz)
                 dl = a - b_a0[i] - red
                 if dl > 0.0:
-                    qj = b_k[i] * dl * math.sqrt(dl)
+                    qj = b_k[i] * dl * _sqrt(dl)
                     qsum += qj
                     qa = qj / a
                     fx -= qa * ar * c
@@ -128,14 +209,14 @@ def bearing_forces(
         b_load[i, 2] = -fy
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def johnson_force(delta, ks, width, estar, rsum):  # pragma: no cover - compiled
     """F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9)
     (:func:`johnson_solve` from its default start)."""
     return johnson_solve(delta, ks, width, estar, rsum, 0.0)[0]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def johnson_solve(delta, ks, width, estar, rsum, start):  # pragma: no cover - compiled
     """(F ≥ 0 with δ = F/ks + F/(π L E*)(ln(4π L E* ΔR/F) − 1) (seed 002 eq 9), dδ/dF at
     the last iterate).
@@ -167,22 +248,23 @@ def johnson_solve(delta, ks, width, estar, rsum, start):  # pragma: no cover - c
     return f, dg
 
 
-@njit(cache=True)
-def mesh_forces(
+def mesh_work_size(pmax: int, nsl: int) -> int:
+    """Scratch values the mesh kernels need for ``pmax`` pair columns and ``nsl`` slices: 6
+    per pair column, 3 per slice of either flank, 5 per (pair, slice) lane (lanes rounded up
+    to a multiple of 8)."""
+    return 6 * pmax + 6 * nsl + 5 * (((pmax * 2 * nsl + 7) // 8) * 8)
+
+
+@njit(inline="always")
+def _mesh_body(
     q, v, f, diss,
     m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0,
     m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
     m_work, m_force,
+    lanes,
 ):  # pragma: no cover - compiled
-    """Add gear-mesh forces to ``f``; diss[2] += friction power, diss[3] += squeeze-film
-    power; ``m_force[i]`` receives the total normal (transverse LOA) contact force of mesh i
-    (drive flank positive, back flank negative). ``m_work``: scratch of at least
-    6 × (pair columns) + 10 × (slices) values (:meth:`.assembly.Meshes.args`).
-
-    The tooth pairs in contact and their table values at the mesh phase do not depend on the
-    slice: they are read once per mesh, then every slice solves eq 9 for each of them; the
-    slice forces and the friction forces are summed before they are added to ``f`` (one
-    update per DOF and mesh)."""
+    """The body of :func:`mesh_forces` (``lanes`` False) and :func:`mesh_forces_lanes`
+    (True), inlined into both (the flag folds away)."""
     # rows of pmax per pair in contact: stiffness and length per slice, gap, ΔR, ρ_a, ρ_b;
     # then per slice (drive flank, back flank): force, deflection, rate, Newton iterate (−F
     # once converged), δ of the pair being solved
@@ -194,6 +276,16 @@ def mesh_forces(
     ddsl = m_work[o + 2 * smax : o + 3 * smax]
     fw = m_work[o + 3 * smax : o + 4 * smax]
     dpw = m_work[o + 4 * smax : o + 5 * smax]
+    # lanes: per (pair, slice) lane, after the slice rows: iterate, δ − gap, 4π L E* ΔR, 1/k_s,
+    # 1/(π L E*)
+    ol = o + 3 * smax
+    nlw = ((pmax * smax + 7) // 8) * 8 if lanes else 0
+    if lanes:
+        fw = m_work[ol : ol + nlw]
+        dpw = m_work[ol + nlw : ol + 2 * nlw]
+    la = m_work[ol + 2 * nlw : ol + 3 * nlw]
+    liks = m_work[ol + 3 * nlw : ol + 4 * nlw]
+    lic = m_work[ol + 4 * nlw : ol + 5 * nlw]
     for i in range(m_na.size):
         a0 = 6 * m_na[i]
         b0 = 6 * m_nb[i]
@@ -263,55 +355,118 @@ def mesh_forces(
             fsl[ksl] = 0.0
             dsl[ksl] = d
             ddsl[ksl] = dd
-        for r in range(npr):
-            # each pair across the slices, eq 9 by johnson_solve's Newton iterations taken
-            # for all slices in lockstep (independent chains of divisions and logarithms
-            # overlap; the same iterates, hence the same forces, as one slice at a time)
-            gap = m_work[pmax + r]
-            ra = m_work[4 * pmax + r]
-            rb = m_work[5 * pmax + r]
-            c = math.pi * m_work[2 * pmax + r] * m_estar[i]
-            a = 4.0 * c * m_work[3 * pmax + r]
-            iks = 1.0 / m_work[r]
-            ic = 1.0 / c
-            for ksl in range(nk):
-                dp = dsl[ksl] - gap
-                if dsl[ksl] <= 0.0 or dp <= 0.0:
-                    fw[ksl] = 0.0  # no contact
-                    continue
-                fw[ksl] = dp / (iks + 12.0 * ic)
-                dpw[ksl] = dp
-            for it in range(2):
+        if lanes:
+            # eq 9 for every (pair, slice) lane of the mesh at once: the two Newton iterations of
+            # johnson_solve from its default start, vectorised over the lanes (branch-free, inline
+            # logarithm: the same iterates as johnson_solve one slice at a time); the rare lanes
+            # not converged in two continue in johnson_solve
+            nl = npr * nk
+            nl8 = ((nl + 7) // 8) * 8
+            for r in range(npr):
+                gap = m_work[pmax + r]
+                c = math.pi * m_work[2 * pmax + r] * m_estar[i]
+                a = 4.0 * c * m_work[3 * pmax + r]
+                iks = 1.0 / m_work[r]
+                ic = 1.0 / c
                 for ksl in range(nk):
-                    fo = fw[ksl]
-                    if fo <= 0.0:  # no contact, or converged (−F)
-                        continue
-                    dp = dpw[ksl]
-                    lg = math.log(a / fo)
-                    g = fo * (iks + ic * (lg - 1.0)) - dp
-                    dg = iks + (lg - 2.0) * ic
-                    fn = fo - g / dg
-                    if fn <= 0.0:
-                        fn = 0.1 * fo
-                    if abs(fn - fo) < 1e-4 * fo:
-                        fw[ksl] = -fn
-                    elif it == 1:  # not converged in two: the remaining iterations
-                        fw[ksl] = -johnson_solve(dp, m_work[r], m_work[2 * pmax + r],
-                                                 m_estar[i], m_work[3 * pmax + r], fn)[0]
+                    ln = r * nk + ksl
+                    dp = dsl[ksl] - gap
+                    la[ln] = a
+                    liks[ln] = iks
+                    lic[ln] = ic
+                    if dsl[ksl] <= 0.0 or dp <= 0.0:
+                        fw[ln] = 0.0  # no contact
+                        dpw[ln] = 0.0
                     else:
-                        fw[ksl] = fn
-            for ksl in range(nk):
-                fp = -fw[ksl]
-                if fp <= 0.0:
-                    continue
-                fsl[ksl] += fp
-                if m_mu[i] > 0.0 and ksl < nsl:
-                    vs = dut + wa * ra + wb * rb
-                    ff = m_mu[i] * fp * _tanh(vs / V_REG)
-                    ffs += ff
-                    ffa += ff * ra
-                    ffb += ff * rb
-                    pfr += ff * vs
+                        fw[ln] = dp / (iks + 12.0 * ic)
+                        dpw[ln] = dp
+            for ln in range(nl, nl8):  # padding lanes: no contact, finite values
+                fw[ln] = 0.0
+                dpw[ln] = 0.0
+                la[ln] = 1.0
+                liks[ln] = 1.0
+                lic[ln] = 1.0
+            for _ in range(2):
+                for ln in range(nl8):
+                    fo = fw[ln]  # > 0: iterate; 0: no contact; < 0: −F once converged
+                    x = fo if fo > 0.0 else 1.0
+                    lg = _log(la[ln] / x)
+                    g = x * (liks[ln] + lic[ln] * (lg - 1.0)) - dpw[ln]
+                    dg = liks[ln] + (lg - 2.0) * lic[ln]
+                    fn = x - g / dg
+                    fn = fn if fn > 0.0 else 0.1 * x
+                    fn = -fn if abs(fn - x) < 1e-4 * x else fn
+                    fw[ln] = fn if fo > 0.0 else fo
+            for ln in range(nl):
+                if fw[ln] > 0.0:  # not converged in two: the remaining iterations
+                    r = ln // nk
+                    fw[ln] = -johnson_solve(dpw[ln], m_work[r], m_work[2 * pmax + r], m_estar[i],
+                                            m_work[3 * pmax + r], fw[ln])[0]
+            for r in range(npr):
+                ra = m_work[4 * pmax + r]
+                rb = m_work[5 * pmax + r]
+                for ksl in range(nk):
+                    fp = -fw[r * nk + ksl]
+                    if fp <= 0.0:
+                        continue
+                    fsl[ksl] += fp
+                    if m_mu[i] > 0.0 and ksl < nsl:
+                        vs = dut + wa * ra + wb * rb
+                        ff = m_mu[i] * fp * _tanh(vs / V_REG)
+                        ffs += ff
+                        ffa += ff * ra
+                        ffb += ff * rb
+                        pfr += ff * vs
+        else:
+            for r in range(npr):
+                # each pair across the slices, eq 9 by johnson_solve's Newton iterations taken
+                # for all slices in lockstep (independent chains of divisions and logarithms
+                # overlap; the same iterates, hence the same forces, as one slice at a time)
+                gap = m_work[pmax + r]
+                ra = m_work[4 * pmax + r]
+                rb = m_work[5 * pmax + r]
+                c = math.pi * m_work[2 * pmax + r] * m_estar[i]
+                a = 4.0 * c * m_work[3 * pmax + r]
+                iks = 1.0 / m_work[r]
+                ic = 1.0 / c
+                for ksl in range(nk):
+                    dp = dsl[ksl] - gap
+                    if dsl[ksl] <= 0.0 or dp <= 0.0:
+                        fw[ksl] = 0.0  # no contact
+                        continue
+                    fw[ksl] = dp / (iks + 12.0 * ic)
+                    dpw[ksl] = dp
+                for it in range(2):
+                    for ksl in range(nk):
+                        fo = fw[ksl]
+                        if fo <= 0.0:  # no contact, or converged (−F)
+                            continue
+                        dp = dpw[ksl]
+                        lg = math.log(a / fo)
+                        g = fo * (iks + ic * (lg - 1.0)) - dp
+                        dg = iks + (lg - 2.0) * ic
+                        fn = fo - g / dg
+                        if fn <= 0.0:
+                            fn = 0.1 * fo
+                        if abs(fn - fo) < 1e-4 * fo:
+                            fw[ksl] = -fn
+                        elif it == 1:  # not converged in two: the remaining iterations
+                            fw[ksl] = -johnson_solve(dp, m_work[r], m_work[2 * pmax + r],
+                                                     m_estar[i], m_work[3 * pmax + r], fn)[0]
+                        else:
+                            fw[ksl] = fn
+                for ksl in range(nk):
+                    fp = -fw[ksl]
+                    if fp <= 0.0:
+                        continue
+                    fsl[ksl] += fp
+                    if m_mu[i] > 0.0 and ksl < nsl:
+                        vs = dut + wa * ra + wb * rb
+                        ff = m_mu[i] * fp * _tanh(vs / V_REG)
+                        ffs += ff
+                        ffa += ff * ra
+                        ffb += ff * rb
+                        pfr += ff * vs
         for ksl in range(nk):
             fk = fsl[ksl]
             if fk > 0.0:
@@ -345,3 +500,44 @@ def mesh_forces(
             f[a0 + m] -= sa
             f[b0 + m] -= sb
         m_force[i] = ftot
+
+
+# error_model="numpy": no division-by-zero test (no divisor is 0; none inside the lanes)
+@njit(cache=True, _nrt=False, error_model="numpy")
+def mesh_forces(
+    q, v, f, diss,
+    m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0,
+    m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
+    m_work, m_force,
+):  # pragma: no cover - compiled
+    """Add gear-mesh forces to ``f``; diss[2] += friction power, diss[3] += squeeze-film
+    power; ``m_force[i]`` receives the total normal (transverse LOA) contact force of mesh i
+    (drive flank positive, back flank negative). ``m_work``: scratch of at least
+    :func:`mesh_work_size` values (:meth:`.assembly.Meshes.args`).
+
+    The tooth pairs in contact and their table values at the mesh phase do not depend on the
+    slice: they are read once per mesh, then every slice solves eq 9 for each of them; the
+    slice forces and the friction forces are summed before they are added to ``f`` (one
+    update per DOF and mesh)."""
+    _mesh_body(q, v, f, diss, m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0, m_ks,
+        m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
+        m_work, m_force, False)
+
+
+@njit(cache=True, _nrt=False, error_model="numpy")
+def mesh_forces_lanes(
+    q, v, f, diss,
+    m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0,
+    m_ks, m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
+    m_work, m_force,
+):  # pragma: no cover - compiled
+    """:func:`mesh_forces` with eq 9 solved for every (pair, slice) lane of a mesh at once:
+    the two Newton iterations of :func:`johnson_solve` from its default start as one
+    branch-free loop over the lanes with an inline logarithm (:func:`_log`, within 1 ulp of the
+    C library), which vectorises; lanes not converged in two continue in
+    :func:`johnson_solve`. The forces differ from :func:`mesh_forces` by rounding only. Used
+    by the modal integrator (:mod:`geardyn.solve.modal_fe`), where the eq 9 solves were a
+    quarter of the step; the other callers keep :func:`mesh_forces`."""
+    _mesh_body(q, v, f, diss, m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0, m_ks,
+        m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
+        m_work, m_force, True)
