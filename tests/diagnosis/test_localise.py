@@ -27,6 +27,7 @@ from geardyn.diagnosis.isolation import (
     ARRAY_CANCELLED,
     Evidence,
     band_energy_share,
+    bearing_evidence,
     bearing_line_shares,
     coherent_evidence,
     coherent_sdr,
@@ -41,6 +42,7 @@ from geardyn.diagnosis.localise import (
     combined_score,
     localise,
     name_planet,
+    pooled_scores,
     posterior,
     sidak_alpha,
 )
@@ -305,6 +307,57 @@ def test_bearing_line_shares_leave_out_the_bins_another_bearing_shares():
     shared = comb_mask(o, 3.0, o[-1])
     assert np.isclose(h[("B", "BPFO")] * total_h,
                       np.sum(healthy[comb_mask(o, 4.5, o[-1]) & ~shared] ** 2))
+
+
+def _ses(values):
+    import xarray as xr
+
+    return xr.DataArray(values, dims="order", coords={"order": np.arange(0, 40, 0.1)})
+
+
+def test_bearing_evidence_compares_the_whole_band_spectra_of_every_run():
+    """Each run's kurtogram picks its own envelope band; on healthy runs the shares in those
+    bands spread over decades (here 1e-9 … 1e-1 of BPFO 4.63), so a spalled record's share
+    cannot pass. The whole-band spectrum (``bearing_spectrum``), the same definition in every
+    run, gives a tight null and the spall passes; when one run lacks it, every run falls
+    back to its ``envelope_spectrum`` (never a mix)."""
+    o = np.arange(0, 40, 0.1)
+    comb = comb_mask(o, 4.63, o[-1])
+    comps = SimpleNamespace(bearings=[SimpleNamespace(name="out", fault_orders={"BPFO": 4.63})])
+    rng = np.random.default_rng(5)
+
+    def run(share_scale, spall):
+        whole = 1.0 + 0.05 * rng.standard_normal(o.size)
+        whole[comb] += 3.0 if spall else 0.0
+        band = np.ones(o.size)
+        band[comb] = share_scale
+        return SimpleNamespace(envelope_spectrum=_ses(band), bearing_spectrum=_ses(whole),
+                               components=comps)
+
+    base = [run(10.0 ** -k, False) for k in (1, 3, 5, 7, 9, 2)]
+    rec = run(1.0, True)
+    ev = bearing_evidence(base, rec, 1e-3)["out"]
+    assert ev.passed and ev.measure == "BPFO band energy"
+    mixed = [*base[:-1], SimpleNamespace(envelope_spectrum=base[-1].envelope_spectrum,
+                                         bearing_spectrum=None, components=comps)]
+    fallback = bearing_evidence(mixed, rec, 1e-3)["out"]
+    assert not fallback.passed and fallback.threshold > 1e3 * ev.threshold
+
+
+def test_pooled_scores_pool_one_bearing_line_over_the_bearings_not_every_line():
+    """The posterior's scores pool the log-spread over evidence of one statistic: the BPFO
+    share of a bearing is not scaled by the wide spread of another bearing's cage-line
+    share, while cSDR domains still pool together."""
+    bpfo = Evidence("a", "BPFO band energy", 2.0, 1.0, 0.1, 1.5, z=0.0, n=6)
+    ftf = Evidence("b", "FTF band energy", 2.0, 1.0, 3.0, 50.0, z=0.0, n=6)
+    c1 = Evidence("s", "cSDR", 2.0, 1.0, 0.2, 1.5, z=0.0, n=6)
+    c2 = Evidence("p", "cSDR_TE", 2.0, 1.0, 0.4, 1.5, z=0.0, n=6)
+    score = pooled_scores([bpfo, ftf, c1, c2])
+    k = math.sqrt(1 + 1 / 6)
+    assert score(bpfo) == pytest.approx(math.log(2.0) / (0.1 * k))
+    assert score(ftf) == pytest.approx(math.log(2.0) / (3.0 * k))
+    sp = math.sqrt((0.2**2 + 0.4**2) / 2)
+    assert score(c1) == pytest.approx(math.log(2.0) / (sp * k)) == score(c2)
 
 
 def test_posterior_closed_form():

@@ -146,6 +146,12 @@ class Features:
     notes: list[str] = field(default_factory=list)
     block_tsa: dict[str, list[np.ndarray]] = field(default_factory=dict)
     components: Components | None = None
+    bearing_spectrum: xr.DataArray | None = None
+    """Squared-envelope spectrum of the whole usable band (no band selection: the same
+    definition for every run), which the bearings' isolation evidence compares between the
+    record and its baselines (:func:`geardyn.diagnosis.isolation.bearing_evidence`); None
+    when ``envelope_spectrum`` is already of the whole band, or for a record streamed in
+    segments."""
 
     def values(self, component: str, indicator: str) -> np.ndarray:
         """Block values of one indicator of one component (time order)."""
@@ -980,8 +986,12 @@ def extract_features(
     ctx = _Ctx(ref, nb, channel, units, [], {}, [], source=source)
 
     spec, kg, band = _spectrum_and_band(ref, units, envelope_band, ctx.notes)
+    full = None
     if isinstance(ref, ArrayGrid):
         env = _bearing_features(ctx, components, band)
+        if components.bearings and band is not None and env is not None:
+            full = _envelope_attrs(
+                envelope_spectrum(_whole(ref), float(ref.samples_per_rev), None), units)
     else:
         env = _long_reference_pass(ctx, components, band)
 
@@ -1002,6 +1012,7 @@ def extract_features(
         block_tsa=ctx.blocks,
         order_spectrum=spec,
         envelope_spectrum=env,
+        bearing_spectrum=full,
         band=None if band is None else (float(band[0]), float(band[1])),
         kurtogram=kg,
         markers=markers,

@@ -989,18 +989,24 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
                      order_max: float | None = None,
                      runs: Sequence[object] | None = None) -> dict[str, Evidence]:
     """Per bearing, the fault-band energy share (:func:`bearing_line_shares`: without the
-    other bearings' lines) of each of its
+    other bearings' lines) in the squared-envelope spectrum of the whole band
+    (``bearing_spectrum`` of every run; ``envelope_spectrum`` when a run lacks it): each run's
+    kurtogram picks its own band, on healthy runs almost at random, and shares taken in
+    different bands spread over orders of magnitude across the baselines — of each of its
     lines (BPFO, BPFI, BSF, FTF) in the record's squared-envelope spectrum against the same
     share in every baseline member (:func:`evidence_from_null`, ``runs``: the dynamic run of
     each member); the bearing's evidence is its line with the largest score. Each line is one
     test at ``alpha``."""
-    spec = getattr(record, "envelope_spectrum", None)
     comps = getattr(record, "components", None)
+    runs_all = [record, *baselines]
+    attr = ("bearing_spectrum" if all(getattr(f, "bearing_spectrum", None) is not None
+                                      for f in runs_all) else "envelope_spectrum")
+    spec = getattr(record, attr, None)
     if spec is None or comps is None:
         return {}
     base = []
     for b in baselines:
-        s = getattr(b, "envelope_spectrum", None)
+        s = getattr(b, attr, None)
         if s is None:
             return {}
         base.append(bearing_line_shares(np.asarray(s["order"].values, float),

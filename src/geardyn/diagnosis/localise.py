@@ -287,13 +287,16 @@ _SCORE = ("posterior probability of each location hypothesis: uniform prior, lik
 def pooled_scores(evidence: Sequence[Evidence]) -> Any:  # noqa: ANN401 - a function
     """Scores that compare hypotheses on one footing: ``z = log(value/mean) / (s_p·√(1 +
     1/n))`` with s_p the pooled log-spread of the record's evidence of one kind (coherent SDR
-    of every domain; fault-band energies), s_p² = Σ (n_d − 1)·s_d² / Σ (n_d − 1) — the pooled
-    variance of a one-way layout (each domain's spread from a few baseline runs is itself
-    uncertain; its own z would favour a domain whose few runs happened to agree). Whether a
+    of every domain; the fault-band energy of one bearing line — BPFO, BPFI, BSF, FTF — over
+    the bearings: the lines' shares are different statistics whose spreads differ by orders of
+    magnitude, the cage line's comb being the densest), s_p² = Σ (n_d − 1)·s_d² /
+    Σ (n_d − 1) — the pooled variance of a one-way layout (each domain's spread from a few
+    baseline runs is itself uncertain; its own z would favour a domain whose few runs
+    happened to agree). Whether a
     domain's evidence passes is still judged against its own spread (:meth:`Evidence.
     passes_at`)."""
-    def family(ev: Evidence) -> str:
-        return "band" if "band energy" in ev.measure else "coherent"
+    def family(ev: Evidence) -> str:  # one statistic: a bearing line's share is its own
+        return ev.measure if "band energy" in ev.measure else "coherent"
 
     acc: dict[str, list[float]] = {}
     for ev in evidence:

@@ -132,7 +132,8 @@ def _judgeable(feats: Any) -> dict[str, Any]:
             t = feats.tsa.get(c.name)
             revs[k] = float(t.attrs.get("revolutions", 0)) if t is not None else 0.0
     out: dict[str, Any] = {"revolutions": (revs, {}, ["component"], {"component": names})}
-    spec = feats.envelope_spectrum
+    spec = (feats.bearing_spectrum if getattr(feats, "bearing_spectrum", None) is not None
+            else feats.envelope_spectrum)
     lines = list(BEARING_LINES)
     if spec is not None and comps.bearings:
         o = np.asarray(spec["order"].values, float)
