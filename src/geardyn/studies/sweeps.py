@@ -242,24 +242,24 @@ def specs(
         rec_values: dict[str, list[Any]] = {}
         from geardyn.sweep.spec import get_path, set_path
 
-        for p in paths:
+        def values_at(path: str, records: list = records, healthy: Any = healthy_base
+                      ) -> list[Any]:  # the value at ``path`` in each record
             vals = []
             for r in records:
-                data = json.loads(json.dumps(healthy_base))
-                for q, v in r.update.items():
-                    set_path(data, q, v)
-                vals.append(get_path(data, p))
+                data = json.loads(json.dumps(healthy))
+                for k, v in r.update.items():
+                    set_path(data, k, v)
+                vals.append(get_path(data, path))
+            return vals
+
+        for p in paths:
+            vals = values_at(p)
             if all(v == vals[0] for v in vals) and get_path(base, p) == vals[0]:
                 continue  # the same in every record and in the base
             q = p
             while any(v is None for v in vals):
                 q = _parent(q)
-                vals = []
-                for r in records:
-                    data = json.loads(json.dumps(healthy_base))
-                    for k, v in r.update.items():
-                        set_path(data, k, v)
-                    vals.append(get_path(data, q))
+                vals = values_at(q)
             rec_values.setdefault(q, [_no_none(v) for v in vals])
         seeds = [int(r.seed) for r in records]
         taken |= {"record", "fault_type", "severity", "record_seed"}

@@ -90,6 +90,25 @@ def _create(path: Path, info: dict[str, Any]) -> bool:
     return True
 
 
+def _take_over(path: Path, held: dict[str, Any] | dict, pid: int) -> bool:
+    """Remove the stale lock ``path`` (whose content was ``held``) atomically: move it aside,
+    and put it back if what was moved is another process's fresh lock. True when removed
+    (the caller then creates its own); False when it was gone or put back."""
+    aside = path.with_name(f"{path.name}.stale-{pid}")
+    try:
+        os.rename(path, aside)
+    except FileNotFoundError:
+        return False
+    moved = _read(aside)
+    if moved is not None and moved != held:  # another process's fresh lock: put it back
+        with contextlib.suppress(OSError):
+            os.rename(aside, path)
+        return False
+    with contextlib.suppress(OSError):
+        os.unlink(aside)
+    return True
+
+
 @contextlib.contextmanager
 def store_lock(store: str | Path) -> Iterator[dict[str, Any]]:
     """Hold the lock of ``store`` for the block; InputError naming the driver holding it."""
@@ -110,18 +129,8 @@ def store_lock(store: str | Path) -> Iterator[dict[str, Any]]:
                 f"({describe(held)}); wait for it to finish, or if that driver is gone, "
                 f"delete '{path}'")
         # stale (or unreadable: a driver killed while writing it): take it over atomically
-        aside = path.with_name(f"{path.name}.stale-{pid}")
-        try:
-            os.rename(path, aside)
-        except FileNotFoundError:
+        if not _take_over(path, held, pid):
             continue
-        moved = _read(aside)
-        if moved is not None and moved != held:  # another driver's fresh lock: put it back
-            with contextlib.suppress(OSError):
-                os.rename(aside, path)
-            continue
-        with contextlib.suppress(OSError):
-            os.unlink(aside)
         warnings.warn(f"taking over the lock of '{store}' left by a driver that is gone "
                       f"({describe(held) if held else 'unreadable lock file'})",
                       StaleLockWarning, stacklevel=3)
@@ -158,18 +167,7 @@ def wait_lock(path: str | Path, poll_s: float = 0.2) -> Iterator[dict[str, Any]]
         if held and _alive(held):
             time.sleep(poll_s)
             continue
-        aside = lock.with_name(f"{lock.name}.stale-{pid}")
-        try:
-            os.rename(lock, aside)
-        except FileNotFoundError:
-            continue
-        moved = _read(aside)
-        if moved is not None and moved != held:  # another process's fresh lock: put it back
-            with contextlib.suppress(OSError):
-                os.rename(aside, lock)
-            continue
-        with contextlib.suppress(OSError):
-            os.unlink(aside)
+        _take_over(lock, held, pid)
     try:
         yield info
     finally:
