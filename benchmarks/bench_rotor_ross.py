@@ -38,6 +38,14 @@ Measured (issue 24, session 4, final code; shared 2-core machine, load average 6
     vs ROSS Newmark ≥ 236×. Cost ∝ elements^p: exponential 1.13 / 0.93, newmark 0.78 / 0.76,
     explicit 2.08. Seed 002 at 400 rpm, 15 → 60 shaft elements: modal p = 0.79, explicit
     p = 2.21. Seed 002 NSC 300 rev: modal 13.2 CPU s, explicit 22.9 CPU s (target ≤ 8: not met).
+
+Measured again 2026-11-26 (session 6, idle machine, load 0.7–1.0, ROSS 2.3.0): speed-up of
+geardyn's fastest vs ROSS lsim 13.1× / 15.2× (1e-4), 18.3× / 22.3× (1e-6); vs ROSS Newmark
+253× / 206× (1e-4), 394× / 320× (1e-6); cost ∝ elements^p: exponential 1.13 / 1.04, newmark
+0.74 / 0.76, explicit 1.98; seed 002 at 400 rpm, 15 → 60 elements: modal p = 0.81, explicit
+2.32. Seed 002 NSC 300 rev: modal **8.2 CPU s** (this row includes the model's build and
+preparation: a user's run; target ≤ 8 not met), explicit 18.0 CPU s. The issue-24 row of
+``bench_transmission`` times the same run on an already prepared model: 7.79–7.99 CPU s.
 """
 
 from __future__ import annotations
