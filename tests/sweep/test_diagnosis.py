@@ -239,3 +239,29 @@ def test_a_baseline_that_fails_is_cached_as_a_failure(small: Path, tmp_path: Pat
     finally:
         dg._simulate_baseline = orig
     assert len(calls) == 1
+
+
+def test_fleet_records_of_two_configs_never_share_a_run_seed() -> None:
+    """A fleet machine's run seed mixes the record seed with its healthy config: records of
+    one seed at two operating points are two machines (their own seed 004 manufacturing
+    errors and sensor noise), a fault record and the healthy record of its seed share one
+    (the SNR's pairing); a nominal record runs with the case's seed."""
+    from geardyn.config.loader import load_config, parse_config
+    from geardyn.sweep.diagnosis import fleet_run_seed, record
+    from geardyn.sweep.spec import set_path
+
+    data = load_config(BASE).model_dump(mode="json")
+    set_path(data, FAULTS, [])
+    healthy = parse_config(data)
+    faulty = parse_config({**data, "planetary_dynamics": {
+        **data["planetary_dynamics"],
+        "stages": [{**data["planetary_dynamics"]["stages"][0], "faults": CRACK}]}})
+    other = json.loads(json.dumps(data))
+    other["input_speeds_rpm"] = {k: 1.1 * v for k, v in data["input_speeds_rpm"].items()}
+    other = parse_config(other)
+    fleet = {"record_machine": "fleet"}
+    a, f, b = (record(c, 100, {}, fleet) for c in (healthy, faulty, other))
+    assert a.run_seed == f.run_seed == fleet_run_seed(100, a.healthy_key)
+    assert b.run_seed != a.run_seed and record(healthy, 101, {}, fleet).run_seed != a.run_seed
+    assert record(healthy, 100, {}, fleet).run_seed == a.run_seed  # reproducible
+    assert record(healthy, 100, {}, {}).run_seed == 100

@@ -9,7 +9,9 @@ random from stated ranges: operating point (speed × U(0.8, 1.2), load × U(0.6,
 ratio, sensor noise × U(0.5, 3). Each configuration has its own healthy baseline ensemble
 (``[diagnosis.ensemble]`` defaults, as ``geardyn diagnose``) and is judged on four healthy
 records (seeds 100–103) and nine faulty ones (three fault kinds × three sizes, seed 100), each
-record another machine of the same fleet (perturbation seed 1000 + configuration index):
+record another machine of the same fleet (perturbation seed 1000 + configuration index; its
+run seed, which draws the manufacturing errors and the sensor noise, mixed with the
+configuration: :func:`geardyn.sweep.diagnosis.fleet_run_seed`):
 planetary machines a tooth crack of 10, 20, 30 % of the tooth thickness on the sun, the ring
 or one planet (drawn per configuration); the FE transmission an outer-race spall on the output
 ball bearing in its load zone (5°, 10.9°, 20° long, 100 µm deep), a spall on tooth 1 of the
@@ -426,7 +428,14 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
               "* The record machines are other machines of the baseline's fleet (perturbation "
               f"seed drawn from {FLEET_SEED} and the configuration); the healthy records of one "
               "configuration share its operating point and sensor, so they are not independent "
-              "of each other: the false-alarm interval treats them as if they were.",
+              "of each other: the false-alarm interval treats them as if they were. Each "
+              "configuration has run seeds of its own (manufacturing errors and sensor noise "
+              "are not shared between configurations).",
+              "* False alarms above the stated probability: the thresholds assume a log-normal "
+              "healthy population and extrapolate from the baseline's runs to α per test; "
+              "kurtosis-type and bearing-line indicators have heavier tails over the "
+              "manufacturing-error, clearance and operating-point draws (measured in "
+              "[diagnosis.md](diagnosis.md#known-limitations)).",
               "* Failed runs (kept as rows, not judged):" + ("" if len(reasons) else " none.")]
     for reason, confs in reasons.items():
         lines.append(f"  {int((failed['status'] == reason).sum())} × `{reason[:100]}` "

@@ -217,13 +217,14 @@ def run_case(task: dict[str, Any]) -> dict[str, Any]:
         outputs = task["outputs"]
         diag = outputs.get("diagnosis")
         rec = None
+        run_seed = int(task["seed"])
         if diag is not None:  # the record of geardyn diagnose (geardyn.sweep.diagnosis)
             from geardyn.sweep.diagnosis import record
 
             rec = record(cfg, int(task["seed"]), task["run"], diag)
-            cfg = rec.config
+            cfg, run_seed = rec.config, rec.run_seed
             run = {k: v for k, v in rec.run_length.items() if v is not None}
-        ds = run_simulation(cfg, seed=int(task["seed"]), **run)
+        ds = run_simulation(cfg, seed=run_seed, **run)
         status = str(ds.attrs.get("status", "ok"))
         out["status"] = status
         out["message"] = str(ds.attrs.get("diagnosis", "")) if status != "ok" else ""

@@ -28,12 +28,16 @@ shared file system by a worker of *another* host cannot be checked and is waited
 it by hand once that worker is known to be gone (as the store's own lock).
 
 **Record machine.** ``record_machine = "nominal"`` (default) runs the config as written, as
-``geardyn diagnose`` does. ``"fleet"`` runs another machine of the baseline's fleet: the
-config perturbed as one ensemble member (:func:`geardyn.diagnosis.ensemble.member_configs`:
-speed, load, errors, pins, clearances, sensors within ``[diagnosis.ensemble]``'s
-tolerances) with run seed ``diagnosis.record_seed`` and perturbation seed
+``geardyn diagnose`` does, with run seed ``diagnosis.record_seed``. ``"fleet"`` runs another
+machine of the baseline's fleet: the config perturbed as one ensemble member
+(:func:`geardyn.diagnosis.ensemble.member_configs`: speed, load, errors, pins, clearances,
+sensors within ``[diagnosis.ensemble]``'s tolerances) with perturbation seed
 ``SeedSequence([fleet_seed, h])``'s first word, h the first 32 bits of the healthy config's
-hash: the records of one healthy config and one seed are one machine, healthy or faulty.
+hash, and run seed ``SeedSequence([record_seed, h])``'s first word (:func:`fleet_run_seed`):
+the run seed draws what a run draws (the seed 004 random manufacturing errors, the sensor
+noise), so the machines of two healthy configs never share those draws through an equal
+``record_seed``; the records of one healthy config and one seed are one machine, healthy or
+faulty.
 
 **SNR** of a fault record: ``mean((x_fault − x_healthy)²) / noise_rms²``, x the judged
 channel of the faulty machine and of its healthy variant run with the same seed (same sensor
@@ -169,6 +173,16 @@ class Record:
     run_length: dict[str, float | None]
     healthy_key: str
     baseline_key: str
+    run_seed: int
+    """Seed of the record's run (:func:`fleet_run_seed` for fleet machines, else the case's
+    seed)."""
+
+
+def fleet_run_seed(record_seed: int, healthy_key: str) -> int:
+    """Run seed of the fleet machine ``record_seed`` of the healthy config with hash
+    ``healthy_key`` (module docstring, "Record machine")."""
+    h = int(healthy_key[:8], 16)
+    return int(np.random.SeedSequence([int(record_seed), h]).generate_state(1)[0])
 
 
 def record(
@@ -201,10 +215,11 @@ def record(
     o = opts.model_dump(mode="json")
     o.pop("record_seed", None)
     b_key = _hash({"healthy": h_key, "options": o, "run": run_length, "version": __version__})[:24]
-    rec_cfg = cfg
+    rec_cfg, run_seed = cfg, int(seed)
     if options.get("record_machine") == "fleet":
         rec_cfg = fleet_machine(cfg, opts, seed, fleet_seed(options, h_key))
-    return Record(rec_cfg, cfg, healthy, opts, run_length, h_key, b_key)
+        run_seed = fleet_run_seed(seed, h_key)
+    return Record(rec_cfg, cfg, healthy, opts, run_length, h_key, b_key, run_seed)
 
 
 def fleet_seed(options: dict[str, Any], healthy_key: str) -> int:
@@ -358,7 +373,7 @@ def paired_healthy(
         cfg = rec.healthy
         if options.get("record_machine") == "fleet":
             cfg = fleet_machine(cfg, rec.opts, seed, fleet_seed(options, rec.healthy_key))
-        ds = run_simulation(cfg, seed=int(seed), **rec.run_length)
+        ds = run_simulation(cfg, seed=rec.run_seed, **rec.run_length)
         return np.asarray(ds[f"sensors.{channel}"].values, float)
 
     if path is None:

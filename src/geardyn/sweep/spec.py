@@ -193,7 +193,8 @@ class DiagnosisOutput(_M):
     record_machine: Literal["nominal", "fleet"] = Field(
         "nominal", description="nominal: the config as written (as geardyn diagnose); fleet: "
         "another machine of the baseline's fleet (the ensemble's perturbations, seeded by "
-        "fleet_seed and the healthy config)")
+        "fleet_seed and the healthy config; its run seed mixes record_seed with the healthy "
+        "config, so two configs' machines never share manufacturing-error or noise draws)")
     fleet_seed: int = Field(0, ge=0, description="seed of the fleet draws (record_machine = "
                             "'fleet')")
 
