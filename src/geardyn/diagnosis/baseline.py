@@ -41,6 +41,14 @@ of the n samples (values or logarithms),
 * σ = max(c_n·s, floor) with the floor a fraction ``f`` (``sigma_floor``, default 5 %) of the
   mean (log scale: log(1 + f)), so that a deterministic baseline (simulated, nearly identical
   seeds) does not alarm on numerical noise;
+* **family floor** (``family_floor``, default on): on the log scale, σ is raised to the median
+  σ of the same indicator over every key of the table (the indicator's *family*: FM4 of the
+  sun, the planets and the ring; one line's energy of every bearing). A spread estimated from
+  a few dynamic runs is itself uncertain, and the components of one machine see the same
+  drivers (manufacturing errors, clearances, operating point): a key whose runs happen to
+  cluster must not get a bound narrower than its family's typical one. The pooling borrows
+  strength across tests as moderated variances do (Smyth 2004), but one-sided: a σ is never
+  lowered, so every test keeps at least the bound above (docs/diagnosis.md, "False alarms");
 * upper threshold μ + k·σ (log scale: exp(μ + k·σ)) for indicators where higher is worse;
 * for two-sided indicators (:data:`TWO_SIDED`, e.g. skewness, whose sign flips with the sense
   of an impact) also a lower threshold μ − k·σ.
@@ -86,6 +94,9 @@ class ThresholdRule:
     block pooled (module docstring)."""
     log_scale: bool = True
     """Threshold positive higher-is-worse indicators on the logarithm of their values."""
+    family_floor: bool = True
+    """Raise each log-scale σ to the median σ of its indicator over the table's keys (module
+    docstring)."""
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.k) and self.k > 0):
@@ -108,9 +119,12 @@ class ThresholdRule:
         scale = ("; positive higher-is-worse indicators on the log scale (threshold = "
                  f"exp(mean + {self.k:g}·σ) of the log values, floor log(1 + "
                  f"{self.sigma_floor:g}))" if self.log_scale else "")
+        fam = ("; on the log scale σ is at least the median σ of the same indicator over "
+               "the other components (family floor, borrowing strength across tests as "
+               "Smyth 2004; never lowered)" if self.family_floor else "")
         return (
             f"threshold = mean + {self.k:g}·σ over {unit}, "
-            f"σ = max({c}, {self.sigma_floor:g}·|mean|){cn}{scale}; two-sided (mean ± "
+            f"σ = max({c}, {self.sigma_floor:g}·|mean|){cn}{scale}{fam}; two-sided (mean ± "
             f"{self.k:g}·σ) for {', '.join(sorted(TWO_SIDED))}"
         )
 
@@ -245,9 +259,32 @@ def thresholds(
     if not out:
         raise InputError("baseline: no finite indicator value in the baseline tables")
     stats = pd.DataFrame(out)
+    if rule.family_floor:
+        stats = family_floor(stats, rule.k)
     cols = [*KEYS, "direction", "scale", "n", "mean", "std", "sigma", "lower", "upper",
             "usable"]
     return stats[cols]
+
+
+def family_floor(stats: pd.DataFrame, k: float) -> pd.DataFrame:
+    """Threshold rows with every usable log-scale σ raised to the median σ of its indicator
+    over the table's usable log-scale keys (module docstring, "family floor"); the upper
+    threshold follows (exp(log mean + k·σ)). Linear-scale rows are left as they are."""
+    out = stats.copy()
+    sig = out["sigma"].to_numpy(float)
+    ok = ((out["scale"] == "log") & out["usable"].astype(bool)).to_numpy() & np.isfinite(sig)
+    if not ok.any():
+        return out
+    floor = out.loc[ok].groupby("indicator")["sigma"].transform("median")
+    raise_ = floor.to_numpy(float) > sig[ok]
+    idx = out.index[ok][raise_]
+    if len(idx):
+        new = floor.to_numpy(float)[raise_]
+        mean = out.loc[idx, "mean"].to_numpy(float)
+        arg = np.log(mean) + k * new
+        out.loc[idx, "sigma"] = new
+        out.loc[idx, "upper"] = np.where(arg < 700.0, np.exp(np.minimum(arg, 700.0)), np.inf)
+    return out
 
 
 def _row(key: dict[str, str], v: np.ndarray, rule: ThresholdRule,

@@ -673,6 +673,32 @@ def evidence_from_null(component: str, measure: str, value: float, null: Sequenc
                     n=n, group=group, null=tuple(float(v) for v in vals), scale=scale, df=df)
 
 
+def family_floor(evidence: Sequence[Evidence], alpha: float) -> list[Evidence]:
+    """``evidence`` (the tests of one statistic over several components or lines: a
+    *family*) with every prediction ``scale`` raised to the family's median scale, the
+    threshold, ``z`` and ``p`` following (:func:`evidence_from_null` with that scale). The
+    isolation counterpart of :func:`geardyn.diagnosis.baseline.family_floor`: a null of a
+    few runs that happen to cluster gets at least its family's typical spread; a scale is
+    never lowered. Fewer than 3 tests with a scale: unchanged."""
+    from scipy.stats import t as student
+
+    scales = [e.scale for e in evidence if np.isfinite(e.scale) and e.scale > 0]
+    if len(scales) < 3:
+        return list(evidence)
+    floor = float(np.median(scales))
+    out = []
+    for e in evidence:
+        if not (np.isfinite(e.scale) and e.scale < floor and np.isfinite(e.df)
+                and e.mean > 0 and np.isfinite(e.value)):
+            out.append(e)
+            continue
+        mu = math.log(e.mean)
+        z = (math.log(max(float(e.value), np.finfo(float).tiny)) - mu) / floor
+        out.append(replace(e, scale=floor, z=z, p=float(student.sf(z, e.df)),
+                           threshold=_exp_bound(mu + float(student.isf(alpha, e.df)) * floor)))
+    return out
+
+
 # ---- coherent (per-order) synchronous deviation -----------------------------------------
 
 @dataclass(frozen=True)
@@ -861,7 +887,7 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
     items = [(c, key, "cSDR") for c, key in record.of.items()]
     items += [(c, key, "cSDR_TE") for c, key in record.of_te.items()]
     items += [(c, key, "cSDR_planet") for c, key in record.of_planet.items()]
-    for comp, key, measure in items:
+    for _comp, key, measure in items:
         if key not in rec or any(key not in b for b in base):
             continue
         if key not in cache:
@@ -872,6 +898,14 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
                 power, dof = deviation_power(rec[key], ref)
                 cache[key] = replace(cache[key], power=power, dof=dof,
                                      **planet_deviation(rec[key], ref, runs))
+    for measure in ("cSDR", "cSDR_TE", "cSDR_planet"):  # one family per statistic
+        keys = [k for _c, k, m_ in items if m_ == measure and k in cache]
+        keys = list(dict.fromkeys(keys))
+        for k, e in zip(keys, family_floor([cache[k] for k in keys], alpha), strict=True):
+            cache[k] = e
+    for comp, key, measure in items:
+        if key not in cache:
+            continue
         ev = cache[key]
         if measure == "cSDR_planet":
             out.setdefault(f"{comp}#planet", replace(ev, component=comp))
@@ -1014,14 +1048,18 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
     rec = bearing_line_shares(np.asarray(spec["order"].values, float),
                               np.asarray(spec.values, float), comps.bearings, order_max)
     out: dict[str, Evidence] = {}
+    lines: dict[str, list[Evidence]] = {}  # one family per line kind (BPFO, BPFI, BSF, FTF)
     for c in comps.bearings:
         for line in c.fault_orders:
             null = [b.get((c.name, line), math.nan) for b in base]
-            ev = evidence_from_null(c.name, f"{line} band energy", rec[(c.name, line)], null,
-                                    alpha, group=c.name, runs=runs)
-            best = out.get(c.name)
+            lines.setdefault(line, []).append(evidence_from_null(
+                c.name, f"{line} band energy", rec[(c.name, line)], null, alpha, group=c.name,
+                runs=runs))
+    for family in lines.values():
+        for ev in family_floor(family, alpha):
+            best = out.get(ev.component)
             if best is None or (np.isfinite(ev.z) and not ev.z <= best.z):
-                out[c.name] = ev
+                out[ev.component] = ev
     return out
 
 
