@@ -54,11 +54,21 @@ def test_walkthrough(tmp_path):
     cross = pd.read_csv(out / "crossings.csv", parse_dates=["timestamp"])
     # nothing crosses before the fault (days 1–5 healthy reference, day 2 DC offset, day 4
     # missing pulse, day 5 clipped); the first faulty record alarms on the pinion's shaft and
-    # the pinion itself
+    # warns on the pinion itself, whose alarm follows the next day (its SER spread raised to
+    # its family's: baseline.family_floor)
     assert cross["timestamp"].min() == pd.Timestamp("2026-03-07 08:00:00")
     alarm = cross[cross["level"] == "alarm"].set_index("component")
+    warning = cross[cross["level"] == "warning"].set_index("component")
     assert alarm.loc["input", "timestamp"] == pd.Timestamp("2026-03-07 08:00:00")
-    assert alarm.loc["input/z23", "timestamp"] == pd.Timestamp("2026-03-07 08:00:00")
+    assert warning.loc["input/z23", "timestamp"] == pd.Timestamp("2026-03-07 08:00:00")
+    assert alarm.loc["input/z23", "timestamp"] == pd.Timestamp("2026-03-08 08:00:00")
+    # z on the level's (log) scale: an alarm crossing is at least k_alarm σ of its level,
+    # k_alarm = Φ⁻¹(1 − α) at the Šidák α of the m usable indicators (p_alarm 1 %)
+    from scipy.stats import norm
+
+    m = len(pd.read_csv(out / "levels.csv"))
+    k_a = norm.isf(1 - (1 - 0.01) ** (1 / m))
+    assert (alarm["z"] >= k_a * (1 - 1e-9)).all(), (alarm["z"], k_a)
     trend = pd.read_csv(out / "trend.csv")
     assert trend["key"].nunique() == 9
     assert (out / "report.html").read_text().count("data:image/png;base64,") == \

@@ -56,7 +56,7 @@ def trend_levels(reference: list[pd.DataFrame], p_warning: float = 0.1,
     k_a = float(norm.isf(sidak_alpha(p_alarm, m)))
     tw = thresholds(reference, ThresholdRule(k=k_w, sigma_floor=sigma_floor))
     ta = thresholds(reference, ThresholdRule(k=k_a, sigma_floor=sigma_floor))
-    t = tw[[*KEYS, "direction", "n", "mean", "sigma", "usable"]].copy()
+    t = tw[[*KEYS, "direction", "scale", "n", "mean", "sigma", "usable"]].copy()
     t["warning"], t["warning_low"] = tw["upper"].to_numpy(), tw["lower"].to_numpy()
     t["alarm"], t["alarm_low"] = ta["upper"].to_numpy(), ta["lower"].to_numpy()
     t["sigma_alarm"] = ta["sigma"].to_numpy()
@@ -66,14 +66,19 @@ def trend_levels(reference: list[pd.DataFrame], p_warning: float = 0.1,
 
 def judge_records(history: pd.DataFrame, levels: Levels) -> pd.DataFrame:
     """Per record and row: the level reached (``ok``/``warning``/``alarm``) and the
-    standardised deviation ``z`` = (value − μ)/σ (σ of the alarm level)."""
+    standardised deviation ``z`` = (value − μ)/σ (σ of the alarm level; on the scale of the
+    level: (log value − log μ)/σ for log-scale rows, μ their geometric mean)."""
     h = history.merge(levels.table, on=KEYS, how="inner")
     v = h["value"].to_numpy(float)
     two = (h["direction"] == "two-sided").to_numpy()
     over_a = (v > h["alarm"].to_numpy()) | (two & (v < h["alarm_low"].to_numpy()))
     over_w = (v > h["warning"].to_numpy()) | (two & (v < h["warning_low"].to_numpy()))
     h["state"] = np.where(over_a, "alarm", np.where(over_w, "warning", "ok"))
-    h["z"] = (v - h["mean"].to_numpy()) / h["sigma_alarm"].to_numpy()
+    mean = h["mean"].to_numpy(float)
+    log = (h["scale"] == "log").to_numpy() & (v > 0) & (mean > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dev = np.where(log, np.log(np.where(log, v, 1.0) / np.where(log, mean, 1.0)), v - mean)
+    h["z"] = dev / h["sigma_alarm"].to_numpy()
     return h
 
 
