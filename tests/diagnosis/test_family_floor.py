@@ -101,3 +101,14 @@ def test_the_floor_keeps_a_heavy_tailed_population_near_its_false_alarm_probabil
     own_rate, pooled_rate = own / (trials * keys), pooled / (trials * keys)
     assert pooled_rate < own_rate
     assert pooled_rate < 1.5 * alpha < own_rate  # regression guard of this Monte Carlo
+
+
+def test_the_option_is_in_diagnosis_and_checked() -> None:
+    from pydantic import ValidationError
+
+    from geardyn.config.diagnosis import DiagnosisSpec
+
+    assert DiagnosisSpec().family_floor is True
+    assert DiagnosisSpec(family_floor=False).family_floor is False
+    with pytest.raises(ValidationError, match="family_floor"):
+        DiagnosisSpec(family_floor="sometimes")

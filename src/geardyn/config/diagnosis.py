@@ -131,6 +131,12 @@ class DiagnosisSpec(BaseModel):
         0.05, ge=0, lt=1,
         description="std floored at this fraction of |mean| (deterministic baselines)",
     )
+    family_floor: bool = Field(
+        True, description="raise each log-scale spread to the median spread of the same "
+        "indicator (isolation statistic, bearing line kind) over the machine's components, "
+        "never lowering one (borrowing strength across tests, after Smyth 2004; "
+        "docs/diagnosis.md); false: each test on its own runs only",
+    )
     blocks: int = Field(4, ge=1, le=64, description="blocks of whole revolutions per record")
     skip_s: float = Field(0.0, ge=0, description="start transient discarded (s)")
     t_end_s: float | None = Field(

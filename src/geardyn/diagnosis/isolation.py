@@ -867,13 +867,15 @@ def domain_stats(blocks: IsolationBlocks) -> dict[str, OrderStats]:
 
 
 def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
-                 alpha: float) -> dict[str, Evidence]:
+                 alpha: float, pool_family: bool = True) -> dict[str, Evidence]:
     """Coherent SDR evidence per rotating component (:func:`coherent_evidence`): ``cSDR`` in
     its own-angle domain; ``cSDR_TE`` on the transmission error of its own mesh, which
     replaces it for a wheel (the shaft's signal is shared by its wheels); ``cSDR_planet`` on
     the planet-separated rows of a planet (``record.of_planet``, every planet from the same
     number of rows), which also carries the planet's :func:`deviation_power` for naming one
-    planet of the set. ``alpha``: false-alarm probability of each test."""
+    planet of the set. ``alpha``: false-alarm probability of each test; ``pool_family``:
+    each statistic's scales floored at their median over the domains
+    (:func:`family_floor`)."""
     base = [domain_stats(b) for b in baselines]
     runs = [getattr(b, "run", None) for b in baselines]
     rec = domain_stats(record)
@@ -898,7 +900,7 @@ def sdr_evidence(baselines: Sequence[IsolationBlocks], record: IsolationBlocks,
                 power, dof = deviation_power(rec[key], ref)
                 cache[key] = replace(cache[key], power=power, dof=dof,
                                      **planet_deviation(rec[key], ref, runs))
-    for measure in ("cSDR", "cSDR_TE", "cSDR_planet"):  # one family per statistic
+    for measure in ("cSDR", "cSDR_TE", "cSDR_planet") if pool_family else ():
         keys = [k for _c, k, m_ in items if m_ == measure and k in cache]
         keys = list(dict.fromkeys(keys))
         for k, e in zip(keys, family_floor([cache[k] for k in keys], alpha), strict=True):
@@ -1021,7 +1023,8 @@ def bearing_line_shares(orders: np.ndarray, spectrum: np.ndarray, bearings: Sequ
 
 def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
                      order_max: float | None = None,
-                     runs: Sequence[object] | None = None) -> dict[str, Evidence]:
+                     runs: Sequence[object] | None = None,
+                     pool_family: bool = True) -> dict[str, Evidence]:
     """Per bearing, the fault-band energy share (:func:`bearing_line_shares`: without the
     other bearings' lines) in the squared-envelope spectrum of the whole band
     (``bearing_spectrum`` of every run; ``envelope_spectrum`` when a run lacks it): each run's
@@ -1030,7 +1033,8 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
     lines (BPFO, BPFI, BSF, FTF) in the record's squared-envelope spectrum against the same
     share in every baseline member (:func:`evidence_from_null`, ``runs``: the dynamic run of
     each member); the bearing's evidence is its line with the largest score. Each line is one
-    test at ``alpha``."""
+    test at ``alpha``; with ``pool_family`` the scales of one line kind (BPFO, BPFI, BSF, FTF)
+    are floored at their median over the bearings (:func:`family_floor`)."""
     comps = getattr(record, "components", None)
     runs_all = [record, *baselines]
     attr = ("bearing_spectrum" if all(getattr(f, "bearing_spectrum", None) is not None
@@ -1056,7 +1060,7 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
                 c.name, f"{line} band energy", rec[(c.name, line)], null, alpha, group=c.name,
                 runs=runs))
     for family in lines.values():
-        for ev in family_floor(family, alpha):
+        for ev in (family_floor(family, alpha) if pool_family else family):
             best = out.get(ev.component)
             if best is None or (np.isfinite(ev.z) and not ev.z <= best.z):
                 out[ev.component] = ev

@@ -307,7 +307,8 @@ def judge_features(
     m = max(m_det + evidence_tests(baseline, record, record_blocks if blocks_ok else None), 1)
     # an explicit factor overrides the stated probability
     alpha, k, p_fa = per_test_level(p_fa, opts.threshold_k, m)
-    rule = ThresholdRule(k=k, sigma_floor=opts.sigma_floor)
+    pool = bool(getattr(opts, "family_floor", True))
+    rule = ThresholdRule(k=k, sigma_floor=opts.sigma_floor, family_floor=pool)
     th = thresholds(tables, rule, runs)
     items = record.components.items if record.components is not None else []
     verdict = judge(record.table, th, rule, machine=cfg.name,
@@ -315,9 +316,9 @@ def judge_features(
                     expected_faults=expected, components=[(c.name, c.kind) for c in items],
                     notes=record.notes)
     verdict.stages = {c.name: c.stage for c in items if c.stage}
-    evidence = bearing_evidence(baseline, record, alpha, runs=runs)
+    evidence = bearing_evidence(baseline, record, alpha, runs=runs, pool_family=pool)
     if blocks_ok:
-        evidence.update(sdr_evidence(baseline_blocks, record_blocks, alpha))
+        evidence.update(sdr_evidence(baseline_blocks, record_blocks, alpha, pool_family=pool))
     localise(verdict, evidence, record.components, alpha=alpha, false_alarm_probability=p_fa,
              tests=m, confidence=confidence)
     return verdict
