@@ -155,6 +155,11 @@ VARIABLES: dict[str, tuple[bool, dict[str, str]]] = {
 }
 
 
+#: ``[diagnosis]`` options that do not change the baseline ensemble's simulation or features
+#: (the record's seed; how thresholds pool spreads), left out of its cache key.
+NOT_IN_BASELINE = ("record_seed", "family_floor")
+
+
 def _hash(obj: Any) -> str:  # noqa: ANN401
     text = json.dumps(obj, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()
@@ -210,10 +215,12 @@ def record(
     # the record's seed is no part of the baseline: records of any seed share it
     data = healthy.model_dump(mode="json")
     if data.get("diagnosis"):
-        data["diagnosis"].pop("record_seed", None)
+        for name in NOT_IN_BASELINE:
+            data["diagnosis"].pop(name, None)
     h_key = _hash(data)
     o = opts.model_dump(mode="json")
-    o.pop("record_seed", None)
+    for name in NOT_IN_BASELINE:
+        o.pop(name, None)
     b_key = _hash({"healthy": h_key, "options": o, "run": run_length, "version": __version__})[:24]
     rec_cfg, run_seed = cfg, int(seed)
     if options.get("record_machine") == "fleet":
