@@ -122,15 +122,18 @@ def shaft_angle(ds: xr.Dataset, shaft: str) -> tuple[np.ndarray, np.ndarray]:
             np.asarray(ds["angle"].sel(shaft=shaft).values, float))
 
 
-def shaft_variables(time: np.ndarray, names: list[str], angle: np.ndarray, speed: np.ndarray
-                    ) -> dict[str, tuple]:
-    """``angle``/``speed``/``speed_rpm`` variables (time, shaft) with units and long names."""
+def shaft_variables(time: np.ndarray, names: list[str], angle: np.ndarray, speed: np.ndarray,
+                    speed_rpm: np.ndarray | None = None) -> dict[str, tuple]:
+    """``angle``/``speed``/``speed_rpm`` variables (time, shaft) with units and long names
+    (``speed_rpm``: ``speed`` × :data:`RAD_S_TO_RPM` when the caller has it already)."""
+    if speed_rpm is None:
+        speed_rpm = speed * RAD_S_TO_RPM
     return {
         "angle": (("time", "shaft"), angle,
                   {"units": "rad", "long_name": "shaft rotation angle"}),
         "speed": (("time", "shaft"), speed,
                   {"units": "rad/s", "long_name": "shaft angular speed"}),
-        "speed_rpm": (("time", "shaft"), speed * RAD_S_TO_RPM,
+        "speed_rpm": (("time", "shaft"), speed_rpm,
                       {"units": "rpm", "long_name": "shaft speed"}),
     }
 

@@ -297,13 +297,19 @@ def run_chunk(
     P[0, :n] = pprev
     P[1, :n] = p0
     buf = np.empty((REC_BLOCK, rec.shape[1]))
+    # per port the bound of |q| (:func:`_steps`' divergence check): 1e12, and for the
+    # translations |q| ≤ max_disp as |q| < the next float above it
+    lim = np.empty(ports.size)
+    lt = min(np.nextafter(max_disp, np.inf), 1e12)
+    for i in range(ports.size):
+        lim[i] = lt if ports[i] % 6 < 3 else 1e12
     tick, code, last = _steps(
         E, DE, P, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K, rec, cf, cd,
         cdamp, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs, drive_dof,
         load_dof, ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp,
         np.zeros(q.size), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(bl.shape),
         np.zeros(mf.size), np.zeros(energy.size), np.zeros(energy.size), np.zeros(0), buf,
-        np.zeros(ports.size))
+        np.zeros(ports.size), lim)
     eta[:] = E[last % 2, :n]
     deta[:] = DE[last % 2, :n]
     pprev[:] = P[last % 3, :n]
@@ -333,12 +339,14 @@ def _steps(
     E, DE, P, q, v, fext, diss, bl, mf, energy, sc, tick0, nsteps, u, m, K, rec, cf, cd,
     cdamp, nv, Phi, Phr, rec_dofs, ports, jdat, jidx, jptr, bargs, margs, drive_dof, load_dof,
     ref_dof, drive_sign, ref_sign, t_ref, w_ref, kp, ki, t0_drive, max_disp,
-    f, ph, ea, eb, bl0, mf0, pw0, pw1, empty, buf, qp,
+    f, ph, ea, eb, bl0, mf0, pw0, pw1, empty, buf, qp, lim,
 ):  # pragma: no cover - compiled
     """The steps of :func:`run_chunk`: step s reads the modal state from ``E[s % 2]``,
     ``DE[s % 2]`` and writes the end state to the other row; the modal forces of the previous
     and current step are ``P[s % 3]``, ``P[(s + 1) % 3]``, the evaluated ones go to
-    ``P[(s + 2) % 3]``. Returns (tick reached, status, steps taken)."""
+    ``P[(s + 2) % 3]``. ``lim``: per port the bound of |q| (a port at or beyond it: diverged).
+    The record ticks are counted (``nxt``: the next one at or after the step's start), not
+    found by divisions. Returns (tick reached, status, steps taken)."""
     n = cdamp.size
     dt = m * u
     nb = bl.shape[0]
@@ -351,6 +359,7 @@ def _steps(
     td = sc[2]
     pd0 = sc[3]
     dense = False
+    nxt = -(-tick0 // K) * K  # the first record tick at or after tick0
     for s in range(nsteps):
         tick = tick0 + s * m
         ia = s % 2  # start state
@@ -361,7 +370,8 @@ def _steps(
         eta = E[ib, :n]
         deta = DE[ib, :n]
         p1 = P[i1, :n]
-        if tick % K == 0:
+        if tick == nxt:
+            nxt += K
             if nbuf == 0:
                 r0 = tick // K
             record(buf, nbuf, t, td, q, v, bl, mf, rec_dofs, nd, nb, nm)
@@ -371,7 +381,7 @@ def _steps(
                 nbuf = 0
         # a record falls inside this step: keep the start loads for the dense output (the
         # modal start state stays in its buffer)
-        dense = m > 1 and (tick // K) != ((tick + m - 1) // K)
+        dense = m > 1 and nxt <= tick + m - 1
         if dense:
             for i in range(nb):
                 for c in range(3):
@@ -415,7 +425,8 @@ def _steps(
             deta[j] += cf[1, 4, j] * dp
         if dense:
             for jt in range(1, m):
-                if (tick + jt) % K == 0:
+                if tick + jt == nxt:
+                    nxt += K
                     if nbuf == 0:
                         r0 = (tick + jt) // K
                     w = jt / m
@@ -429,8 +440,7 @@ def _steps(
         pd1 = _damping_power(cdamp, deta)
         ok = math.isfinite(pd1)
         for i in range(ports.size):
-            d = ports[i]
-            if not (abs(q[d]) < 1e12) or (d % 6 < 3 and abs(q[d]) > max_disp):
+            if not (abs(q[ports[i]]) < lim[i]):
                 ok = False
         step_powers(fext, v, diss, empty, drive_dof, load_dof, pw1)
         pw1[E_MODAL] = pd1

@@ -556,6 +556,32 @@ def connecting_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray,
     return f
 
 
+def kernel_dofs(model: TransmissionModel) -> np.ndarray:
+    """The global DOFs whose displacement the connecting forces read (sorted): x, y, z and θz
+    of every bearing node (:func:`.kernels.bearing_forces`), all six DOFs of both nodes of
+    every mesh (:func:`.kernels.mesh_forces`). The forces do not change when any other DOF
+    moves, so a finite-difference column of another DOF is exactly zero."""
+    dofs = {6 * int(nd) + k for nd in model.bearings.node for k in (0, 1, 2, 5)}
+    for a, b in zip(model.meshes.na, model.meshes.nb, strict=True):
+        dofs.update(6 * int(nd) + k for nd in (a, b) for k in range(6))
+    return np.array(sorted(dofs), np.int64)
+
+
+def perturbed_forces(model: TransmissionModel, q: np.ndarray, v: np.ndarray, cols: np.ndarray,
+                     h: float, args: tuple | None = None) -> np.ndarray:
+    """(ndof, cols.size): column k the connecting forces at q + h e_cols[k] (a
+    finite-difference Jacobian's evaluations in one compiled call: the values of
+    :func:`connecting_forces`, without a Python call per column)."""
+    from geardyn.models.transmission.kernels import perturbed_connecting_forces
+
+    ba, ma = args or (model.bearings.args(), model.meshes.args())
+    out = np.zeros((q.size, cols.size))
+    perturbed_connecting_forces(np.asarray(q, float), np.asarray(v, float),
+                                np.asarray(cols, np.int64), float(h), ba, ma,
+                                model.bearings.node.size, model.meshes.na.size, out)
+    return out
+
+
 def static_equilibrium(
     model: TransmissionModel, load_torque: float, q0: np.ndarray | None = None,
     tol: float = 1e-10, max_iter: int = 500,
@@ -600,15 +626,15 @@ def _equilibrium_newton(model: TransmissionModel, load_torque: float, q0: np.nda
     def resid(qq: np.ndarray) -> np.ndarray:
         return (Kr @ qq - connecting_forces(model, qq, v, args) - fext)[free]
 
+    # finite-difference columns of the DOFs the forces read (the others are exactly zero)
+    cols = np.flatnonzero(np.isin(free, kernel_dofs(model)))
     for _ in range(max_iter):
         r = resid(q)
         J = Kr[np.ix_(free, free)].copy()
         h = 1e-9
         f0 = connecting_forces(model, q, v, args)
-        for jj, j in enumerate(free):
-            qp = q.copy()
-            qp[j] += h
-            J[:, jj] -= (connecting_forces(model, qp, v, args) - f0)[free] / h
+        F = perturbed_forces(model, q, v, free[cols], h, args)
+        J[:, cols] -= (F[free] - f0[free, None]) / h
         dq = np.linalg.solve(J, -r)
         # limit the step (clearances make the first tangent nearly singular)
         trans = (free % 6) < 3

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
@@ -541,3 +542,30 @@ def mesh_forces_lanes(
     _mesh_body(q, v, f, diss, m_na, m_nb, m_V, m_nsl, m_tlen, m_npc, m_za, m_s, m_xi0, m_ks,
         m_len, m_rsum, m_rhoa, m_rhob, m_np, m_that, m_mu, m_csf, m_estar, m_gap, m_Vb, m_bl,
         m_work, m_force, True)
+
+
+@njit(cache=True)
+def perturbed_connecting_forces(q, v, cols, h, bargs, margs, nb, nm, out
+                                ):  # pragma: no cover - compiled
+    """out[:, k] = bearing + mesh forces (:func:`bearing_forces`, :func:`mesh_forces`) at
+    q + h e_cols[k]: the evaluations of a finite-difference Jacobian in one call, each as
+    :func:`.assembly.connecting_forces` computes it (fresh force, dissipation and load
+    arrays)."""
+    n = q.size
+    qp = q.copy()
+    f = np.zeros(n)
+    diss = np.zeros(5)
+    bl = np.zeros((nb, 3))
+    mf = np.zeros(nm)
+    for k in range(cols.size):
+        j = cols[k]
+        qp[j] = q[j] + h
+        f[:] = 0.0
+        diss[:] = 0.0
+        bl[:, :] = 0.0
+        mf[:] = 0.0
+        bearing_forces(qp, v, f, diss, *bargs, bl)
+        mesh_forces(qp, v, f, diss, *margs, mf)
+        for i in range(n):
+            out[i, k] = f[i]
+        qp[j] = q[j]
