@@ -57,13 +57,20 @@ def test_a_clustered_key_gets_its_family_median_spread() -> None:
     assert (on["sigma"] >= off["sigma"] - 1e-15).all()
     assert (on["upper"] >= off["upper"] * (1 - 1e-15)).all()
     assert "family floor" in ThresholdRule().describe()
+    # bearings are no family (each line's spread depends on the bearing's own geometry)
+    tables = _tables(_baseline())
+    for t in tables:
+        t.loc[t["component"] == "sun", "kind"] = "bearing"
+    b = thresholds(tables, ThresholdRule(k=k, small_sample=False)).set_index(
+        ["component", "indicator"])
+    assert b.loc[("sun", "FM4"), "sigma"] == off.loc[("sun", "FM4"), "sigma"]
     assert "family floor" not in ThresholdRule(family_floor=False).describe()
 
 
 def test_evidence_family_floor_recomputes_the_bound() -> None:
     rng = np.random.default_rng(5)
     alpha = 1e-3
-    evs = [evidence_from_null(f"bearing {i}", "BPFO band energy", 0.02,
+    evs = [evidence_from_null(f"domain {i}", "cSDR", 0.02,
                               list(0.01 * np.exp(s * rng.standard_normal(8))), alpha)
            for i, s in enumerate((0.05, 0.4, 0.6, 0.5))]
     out = family_floor(evs, alpha)

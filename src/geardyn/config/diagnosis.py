@@ -133,7 +133,7 @@ class DiagnosisSpec(BaseModel):
     )
     family_floor: bool = Field(
         True, description="raise each log-scale spread to the median spread of the same "
-        "indicator (isolation statistic, bearing line kind) over the machine's components, "
+        "indicator (isolation statistic) over the machine's components (not bearings), "
         "never lowering one (borrowing strength across tests, after Smyth 2004; "
         "docs/diagnosis.md); false: each test on its own runs only",
     )

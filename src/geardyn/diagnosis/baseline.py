@@ -43,7 +43,8 @@ of the n samples (values or logarithms),
   seeds) does not alarm on numerical noise;
 * **family floor** (``family_floor``, default on): on the log scale, σ is raised to the median
   σ of the same indicator over every key of the table (the indicator's *family*: FM4 of the
-  sun, the planets and the ring; one line's energy of every bearing). A spread estimated from
+  sun, the planets and the ring; bearings excepted, whose line spreads depend on each
+  bearing's own geometry). A spread estimated from
   a few dynamic runs is itself uncertain, and the components of one machine see the same
   drivers (manufacturing errors, clearances, operating point): a key whose runs happen to
   cluster must not get a bound narrower than its family's typical one. The pooling borrows
@@ -269,10 +270,13 @@ def thresholds(
 def family_floor(stats: pd.DataFrame, k: float) -> pd.DataFrame:
     """Threshold rows with every usable log-scale σ raised to the median σ of its indicator
     over the table's usable log-scale keys (module docstring, "family floor"); the upper
-    threshold follows (exp(log mean + k·σ)). Linear-scale rows are left as they are."""
+    threshold follows (exp(log mean + k·σ)). Linear-scale rows and bearings are left as they
+    are: a bearing line's spread depends on which deterministic lines its band meets, the
+    bearing's own geometry, so bearings are no family."""
     out = stats.copy()
     sig = out["sigma"].to_numpy(float)
-    ok = ((out["scale"] == "log") & out["usable"].astype(bool)).to_numpy() & np.isfinite(sig)
+    ok = ((out["scale"] == "log") & out["usable"].astype(bool)
+          & (out["kind"] != "bearing")).to_numpy() & np.isfinite(sig)
     if not ok.any():
         return out
     floor = out.loc[ok].groupby("indicator")["sigma"].transform("median")

@@ -1023,8 +1023,7 @@ def bearing_line_shares(orders: np.ndarray, spectrum: np.ndarray, bearings: Sequ
 
 def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
                      order_max: float | None = None,
-                     runs: Sequence[object] | None = None,
-                     pool_family: bool = True) -> dict[str, Evidence]:
+                     runs: Sequence[object] | None = None) -> dict[str, Evidence]:
     """Per bearing, the fault-band energy share (:func:`bearing_line_shares`: without the
     other bearings' lines) in the squared-envelope spectrum of the whole band
     (``bearing_spectrum`` of every run; ``envelope_spectrum`` when a run lacks it): each run's
@@ -1033,8 +1032,10 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
     lines (BPFO, BPFI, BSF, FTF) in the record's squared-envelope spectrum against the same
     share in every baseline member (:func:`evidence_from_null`, ``runs``: the dynamic run of
     each member); the bearing's evidence is its line with the largest score. Each line is one
-    test at ``alpha``; with ``pool_family`` the scales of one line kind (BPFO, BPFI, BSF, FTF)
-    are floored at their median over the bearings (:func:`family_floor`)."""
+    test at ``alpha``. No family floor here (:func:`family_floor`): a line's spread depends
+    on which deterministic lines its comb meets, which is the bearing's own geometry, so the
+    bearings' spreads are not exchangeable (with the floor, a load-zone outer-race spall's
+    BPFO share of 0.33 met a threshold of 16, a share being at most 1)."""
     comps = getattr(record, "components", None)
     runs_all = [record, *baselines]
     attr = ("bearing_spectrum" if all(getattr(f, "bearing_spectrum", None) is not None
@@ -1052,18 +1053,14 @@ def bearing_evidence(baselines: Sequence, record, alpha: float,  # noqa: ANN001
     rec = bearing_line_shares(np.asarray(spec["order"].values, float),
                               np.asarray(spec.values, float), comps.bearings, order_max)
     out: dict[str, Evidence] = {}
-    lines: dict[str, list[Evidence]] = {}  # one family per line kind (BPFO, BPFI, BSF, FTF)
     for c in comps.bearings:
         for line in c.fault_orders:
             null = [b.get((c.name, line), math.nan) for b in base]
-            lines.setdefault(line, []).append(evidence_from_null(
-                c.name, f"{line} band energy", rec[(c.name, line)], null, alpha, group=c.name,
-                runs=runs))
-    for family in lines.values():
-        for ev in (family_floor(family, alpha) if pool_family else family):
-            best = out.get(ev.component)
+            ev = evidence_from_null(c.name, f"{line} band energy", rec[(c.name, line)], null,
+                                    alpha, group=c.name, runs=runs)
+            best = out.get(c.name)
             if best is None or (np.isfinite(ev.z) and not ev.z <= best.z):
-                out[ev.component] = ev
+                out[c.name] = ev
     return out
 
 

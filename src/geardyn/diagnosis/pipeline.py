@@ -316,7 +316,7 @@ def judge_features(
                     expected_faults=expected, components=[(c.name, c.kind) for c in items],
                     notes=record.notes)
     verdict.stages = {c.name: c.stage for c in items if c.stage}
-    evidence = bearing_evidence(baseline, record, alpha, runs=runs, pool_family=pool)
+    evidence = bearing_evidence(baseline, record, alpha, runs=runs)
     if blocks_ok:
         evidence.update(sdr_evidence(baseline_blocks, record_blocks, alpha, pool_family=pool))
     localise(verdict, evidence, record.components, alpha=alpha, false_alarm_probability=p_fa,
