@@ -431,11 +431,12 @@ def page(rows: pd.DataFrame, p_fa: float, command: str, cpu_s: float) -> str:
               "of each other: the false-alarm interval treats them as if they were. Each "
               "configuration has run seeds of its own (manufacturing errors and sensor noise "
               "are not shared between configurations).",
-              "* False alarms above the stated probability: the thresholds assume a log-normal "
-              "healthy population and extrapolate from the baseline's runs to α per test; "
-              "kurtosis-type and bearing-line indicators have heavier tails over the "
-              "manufacturing-error, clearance and operating-point draws (measured in "
-              "[diagnosis.md](diagnosis.md#known-limitations)).",
+              "* Healthy populations have heavier tails than the log-normal bound of each test "
+              "assumes (kurtosis-type and bearing-line indicators over the manufacturing-error, "
+              "clearance and operating-point draws); the thresholds' family floor is what keeps "
+              "the false-alarm rate near the stated probability (measured in "
+              "[diagnosis.md](diagnosis.md#known-limitations)). 56 healthy records cannot show "
+              "a rate below about 5 %: the interval above is what they prove.",
               "* Failed runs (kept as rows, not judged):" + ("" if len(reasons) else " none.")]
     for reason, confs in reasons.items():
         lines.append(f"  {int((failed['status'] == reason).sum())} × `{reason[:100]}` "
