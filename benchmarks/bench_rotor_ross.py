@@ -46,6 +46,14 @@ geardyn's fastest vs ROSS lsim 13.1× / 15.2× (1e-4), 18.3× / 22.3× (1e-6); v
 2.32. Seed 002 NSC 300 rev: modal **8.2 CPU s** (this row includes the model's build and
 preparation: a user's run; target ≤ 8 not met), explicit 18.0 CPU s. The issue-24 row of
 ``bench_transmission`` times the same run on an already prepared model: 7.79–7.99 CPU s.
+
+Measured again 2026-11-26 (session 7, fresh clone, idle machine, load 1.1, ROSS 2.3.0), after
+the work around the loop was trimmed (bit-identical records): speed-up of geardyn's fastest vs
+ROSS lsim 12.2× / 15.8× (1e-4), 17.2× / 23.8× (1e-6); vs ROSS Newmark 266× / 209× (1e-4),
+374× / 351× (1e-6); cost ∝ elements^p: exponential 1.11 / 0.96, newmark 0.75 / 0.82, explicit
+1.99; seed 002 at 400 rpm, 15 → 60 elements: modal p = 0.82, explicit 2.24. Seed 002 NSC 300
+rev, a user's whole call (build, preparation, loop, records): modal **7.6 CPU s** (target ≤ 8:
+met; 7.57–7.86 over 6 calls in 3 processes), explicit 20.6 CPU s.
 """
 
 from __future__ import annotations
