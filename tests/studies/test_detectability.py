@@ -267,3 +267,20 @@ def test_tiny_study_runs_through_geardyn_sweep(tmp_path):
         assert len(json.load(fh)) == 9
     cpu = df.drop_duplicates("config")["baseline_cpu_s"].sum() + df["record_cpu_s"].sum()
     print(f"tiny study: {wall:.0f} s wall, {cpu:.0f} s worker CPU")
+
+
+def test_configurations_with_their_own_records_get_their_own_spec_files():
+    """Configurations of one machine whose record sets differ (here: other run seeds) are
+    other sweeps: each gets a file of its own, none overwrites another (was: one slug per
+    machine and planet, the last spec written won)."""
+    from dataclasses import replace
+
+    from geardyn.studies.detectability import study_specs
+
+    confs = [c for c in design(counts={m: 2 for m in CONFIGURATIONS})
+             if c.machine == "FE transmission"]
+    confs = [confs[0], replace(confs[1], records=tuple(replace(r, seed=r.seed + 50)
+                                                      for r in confs[1].records))]
+    sts = study_specs(confs)
+    assert len(sts) == 2 and len({st.slug for st in sts}) == 2
+    assert sum(len(st.configurations) for st in sts) == 2

@@ -224,6 +224,7 @@ def specs(
         )
         groups.setdefault((c.machine, c.base, recs), []).append(c)
     out = []
+    taken_slugs: set[str] = set()  # one file per spec: a repeated slug would overwrite one
     for (machine, base_path, _), members in groups.items():
         base_cfg = load_config(base_path)
         base = base_cfg.model_dump(mode="json")
@@ -234,6 +235,9 @@ def specs(
         planets = {c.params.get("faulty_planet") for c in members}
         planet = planets.pop() if len(planets) == 1 and machine.startswith("planetary") else None
         slug = _slug(machine) + (f"-planet{planet}" if planet else "")
+        if slug in taken_slugs:  # another record set of the same machine: its own files
+            slug = f"{slug}-{sum(1 for t in taken_slugs if t.startswith(slug)) + 1}"
+        taken_slugs.add(slug)
         records = members[0].records
         taken = {"case", "seed", "replicate", "status", "message"}
         axes: list[dict[str, Any]] = []
